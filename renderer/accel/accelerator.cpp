@@ -1,0 +1,21 @@
+#include "accel/accelerator.h"
+
+#include "accel/bruteforce.h"
+#include "core/error.h"
+
+namespace caustic {
+
+const std::vector<std::string>& acceleratorNames() {
+    static const std::vector<std::string> names{"bruteforce"};
+    return names;
+}
+
+std::unique_ptr<Accelerator> createAccelerator(const std::string& name, const Geometry& geometry) {
+    if (name == "bruteforce") return std::make_unique<BruteForceAccel>(geometry);
+    std::string valid;
+    for (const std::string& n : acceleratorNames()) valid += (valid.empty() ? "" : ", ") + n;
+    throw InputError("/settings/accelerator",
+                     "unknown accelerator \"" + name + "\"; valid: " + valid);
+}
+
+}  // namespace caustic

@@ -1,0 +1,25 @@
+#include "accel/bruteforce.h"
+
+namespace caustic {
+
+std::optional<Hit> BruteForceAccel::intersect(const Ray& ray, float tMax) const {
+    std::optional<PrimHit> best;
+    uint32_t bestPrim = 0;
+    for (uint32_t prim = 0; prim < geometry_.size(); ++prim) {
+        if (auto h = geometry_.intersect(prim, ray, tMax)) {
+            tMax = h->t;
+            best = h;
+            bestPrim = prim;
+        }
+    }
+    if (!best) return std::nullopt;
+    return geometry_.finish(bestPrim, ray, *best);
+}
+
+bool BruteForceAccel::occluded(const Ray& ray, float tMax) const {
+    for (uint32_t prim = 0; prim < geometry_.size(); ++prim)
+        if (geometry_.intersect(prim, ray, tMax)) return true;
+    return false;
+}
+
+}  // namespace caustic

@@ -1,0 +1,67 @@
+#include "film/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace caustic {
+
+namespace fs = std::filesystem;
+
+float srgbEncode(float v) {
+    v = std::clamp(v, 0.0f, 1.0f);
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+void writeImage(const fs::path& file, const RgbImage& image, double exposure) {
+    std::string ext = file.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".exr" && ext != ".png")
+        throw std::runtime_error("unsupported image type \"" + ext + "\" for " + file.string() +
+                                 " (use .png or .exr)");
+    fs::path tmp = file;
+    tmp += ".tmp";
+    auto out = OIIO::ImageOutput::create(ext.substr(1));
+    if (!out) throw std::runtime_error("OpenImageIO cannot write " + ext + ": " + OIIO::geterror());
+    bool ok;
+    if (ext == ".exr") {
+        OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
+        spec.attribute("compression", "zip");
+        ok = out->open(tmp.string(), spec) &&
+             out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+    } else {
+        auto scale = static_cast<float>(std::exp2(exposure));
+        std::vector<unsigned char> bytes(image.pixels.size());
+        for (size_t i = 0; i < bytes.size(); ++i)
+            bytes[i] = static_cast<unsigned char>(
+                std::lround(255.0f * srgbEncode(scale * image.pixels[i])));
+        OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("oiio:ColorSpace", "sRGB");
+        ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    }
+    ok = out->close() && ok;
+    if (!ok) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw std::runtime_error("cannot write " + file.string() + ": " + out->geterror());
+    }
+    fs::rename(tmp, file);
+}
+
+RgbImage readImage(const fs::path& file) {
+    auto in = OIIO::ImageInput::open(file.string());
+    if (!in) throw std::runtime_error("cannot read " + file.string() + ": " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    RgbImage image{spec.width, spec.height, {}};
+    std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
+        throw std::runtime_error("cannot read " + file.string() + ": " + in->geterror());
+    image.pixels.resize(size_t(spec.width) * spec.height * 3);
+    for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
+        for (int c = 0; c < 3; ++c)
+            image.pixels[3 * p + c] = all[p * spec.nchannels + std::min(c, spec.nchannels - 1)];
+    return image;
+}
+
+}  // namespace caustic

@@ -1,0 +1,28 @@
+// Image files through OpenImageIO: linear float EXR, and 8-bit PNG with exposure and sRGB encoding.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+/// An interleaved RGB float image, row-major, top row first.
+struct RgbImage {
+    int width = 0, height = 0;
+    std::vector<float> pixels;
+};
+
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
+float srgbEncode(float linear);
+
+/// Writes `image` to `file`, choosing the format by extension: ".exr" (linear, 32-bit float) or
+/// ".png" (scaled by 2^exposure, clamped, sRGB-encoded, 8-bit). Writes a temporary file beside it
+/// and renames it, so a reader never sees a partial image. Throws std::runtime_error on failure.
+void writeImage(const std::filesystem::path& file, const RgbImage& image, double exposure = 0.0);
+
+/// Reads an image's first three channels as float (linear for EXR; PNG values are decoded as
+/// stored, 0..1). Throws std::runtime_error on failure.
+RgbImage readImage(const std::filesystem::path& file);
+
+}  // namespace caustic

@@ -1,0 +1,211 @@
+#include "geometry/geometry.h"
+
+#include "core/check.h"
+#include "core/sampling.h"
+
+namespace caustic {
+namespace {
+
+// Barycentrics of a quad's two triangles (v0, v1, v2) and (v0, v2, v3) mapped to its (s, t).
+Vec2 quadUv(bool second, const TriangleHit& h) {
+    return second ? Vec2(h.b1, h.b1 + h.b2) : Vec2(h.b1 + h.b2, h.b2);
+}
+
+// Barycentrics of a quad's (s, t) within the triangle that holds it.
+TriangleHit quadBarycentrics(Vec2 uv, bool& second) {
+    second = uv.y > uv.x;
+    if (second) return TriangleHit{1.0f - uv.y, uv.x, uv.y - uv.x, 0.0f};
+    return TriangleHit{1.0f - uv.x, uv.x - uv.y, uv.y, 0.0f};
+}
+
+}  // namespace
+
+uint32_t Geometry::push(PrimKind kind, uint32_t local, uint32_t material) {
+    kind_.push_back(kind);
+    local_.push_back(local);
+    material_.push_back(material);
+    return size() - 1;
+}
+
+uint32_t Geometry::addSphere(const Sphere& s, uint32_t material) {
+    spheres_.push_back(s);
+    return push(PrimKind::Sphere, static_cast<uint32_t>(spheres_.size() - 1), material);
+}
+
+uint32_t Geometry::addQuad(const Vec3& origin, const Vec3& u, const Vec3& v, uint32_t material) {
+    quads_.push_back(Quad{{origin, origin + u, origin + u + v, origin + v}});
+    return push(PrimKind::Quad, static_cast<uint32_t>(quads_.size() - 1), material);
+}
+
+uint32_t Geometry::addTriangles(const std::vector<Vec3>& positions,
+                                const std::vector<glm::uvec3>& triangles, uint32_t material) {
+    auto base = static_cast<uint32_t>(positions_.size());
+    positions_.insert(positions_.end(), positions.begin(), positions.end());
+    uint32_t first = size();
+    for (const glm::uvec3& t : triangles) {
+        CAUSTIC_CHECK(t.x < positions.size() && t.y < positions.size() && t.z < positions.size());
+        triangles_.push_back(t + glm::uvec3(base));
+        push(PrimKind::Triangle, static_cast<uint32_t>(triangles_.size() - 1), material);
+    }
+    return first;
+}
+
+Bounds3 Geometry::bounds(uint32_t prim) const {
+    uint32_t i = local_[prim];
+    Bounds3 b;
+    switch (kind_[prim]) {
+        case PrimKind::Sphere:
+            return spheres_[i].bounds();
+        case PrimKind::Quad:
+            for (const Vec3& v : quads_[i].v) b.extend(v);
+            return b;
+        case PrimKind::Triangle: {
+            Vec3 p0, p1, p2;
+            triangleVertices(i, p0, p1, p2);
+            b.extend(p0);
+            b.extend(p1);
+            b.extend(p2);
+            return b;
+        }
+    }
+    return b;
+}
+
+Bounds3 Geometry::bounds() const {
+    Bounds3 b;
+    for (uint32_t prim = 0; prim < size(); ++prim) b.extend(bounds(prim));
+    return b;
+}
+
+std::optional<PrimHit> Geometry::intersect(uint32_t prim, const Ray& ray, float tMax) const {
+    uint32_t i = local_[prim];
+    switch (kind_[prim]) {
+        case PrimKind::Sphere:
+            if (auto h = spheres_[i].intersect(ray, tMax)) return PrimHit{h->first, h->second};
+            return std::nullopt;
+        case PrimKind::Quad: {
+            const Quad& q = quads_[i];
+            if (auto h = intersectTriangle(ray, tMax, q.v[0], q.v[1], q.v[2]))
+                return PrimHit{h->t, quadUv(false, *h)};
+            if (auto h = intersectTriangle(ray, tMax, q.v[0], q.v[2], q.v[3]))
+                return PrimHit{h->t, quadUv(true, *h)};
+            return std::nullopt;
+        }
+        case PrimKind::Triangle: {
+            Vec3 p0, p1, p2;
+            triangleVertices(i, p0, p1, p2);
+            if (auto h = intersectTriangle(ray, tMax, p0, p1, p2))
+                return PrimHit{h->t, Vec2(h->b1, h->b2)};
+            return std::nullopt;
+        }
+    }
+    return std::nullopt;
+}
+
+Hit Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
+    Hit hit{h.t, prim, h.uv, Vec3(0.0f)};
+    uint32_t i = local_[prim];
+    switch (kind_[prim]) {
+        case PrimKind::Sphere:
+            hit.n = spheres_[i].normal(ray.o + h.t * ray.d);
+            break;
+        case PrimKind::Quad: {
+            const Quad& q = quads_[i];
+            hit.n = triangleNormal(q.v[0], q.v[1], q.v[2]);
+            break;
+        }
+        case PrimKind::Triangle: {
+            Vec3 p0, p1, p2;
+            triangleVertices(i, p0, p1, p2);
+            hit.n = triangleNormal(p0, p1, p2);
+            break;
+        }
+    }
+    return hit;
+}
+
+SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {
+    SurfaceInteraction si;
+    si.n = hit.n;
+    si.uv = hit.uv;
+    si.prim = hit.prim;
+    si.material = material_[hit.prim];
+    uint32_t i = local_[hit.prim];
+    switch (kind_[hit.prim]) {
+        case PrimKind::Sphere:
+            spheres_[i].hitPoint(ray, hit.t, si.p, si.pError);
+            break;
+        case PrimKind::Quad: {
+            const Quad& q = quads_[i];
+            bool second = false;
+            TriangleHit b = quadBarycentrics(hit.uv, second);
+            triangleHitPoint(b, q.v[0], second ? q.v[2] : q.v[1], second ? q.v[3] : q.v[2], si.p,
+                             si.pError);
+            break;
+        }
+        case PrimKind::Triangle: {
+            Vec3 p0, p1, p2;
+            triangleVertices(i, p0, p1, p2);
+            TriangleHit b{1.0f - hit.uv.x - hit.uv.y, hit.uv.x, hit.uv.y, hit.t};
+            triangleHitPoint(b, p0, p1, p2, si.p, si.pError);
+            break;
+        }
+    }
+    return si;
+}
+
+float Geometry::area(uint32_t prim) const {
+    uint32_t i = local_[prim];
+    switch (kind_[prim]) {
+        case PrimKind::Sphere:
+            return spheres_[i].area();
+        case PrimKind::Quad: {
+            const Quad& q = quads_[i];
+            return glm::length(glm::cross(q.v[1] - q.v[0], q.v[3] - q.v[0]));
+        }
+        case PrimKind::Triangle: {
+            Vec3 p0, p1, p2;
+            triangleVertices(i, p0, p1, p2);
+            return 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+        }
+    }
+    return 0.0f;
+}
+
+SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
+    uint32_t i = local_[prim];
+    SurfaceSample s;
+    switch (kind_[prim]) {
+        case PrimKind::Sphere:
+            return spheres_[i].sample(u);
+        case PrimKind::Quad: {
+            const Quad& q = quads_[i];
+            bool second = false;
+            TriangleHit b = quadBarycentrics(u, second);
+            triangleHitPoint(b, q.v[0], second ? q.v[2] : q.v[1], second ? q.v[3] : q.v[2], s.p,
+                             s.pError);
+            s.n = triangleNormal(q.v[0], q.v[1], q.v[2]);
+            break;
+        }
+        case PrimKind::Triangle: {
+            Vec3 p0, p1, p2;
+            triangleVertices(i, p0, p1, p2);
+            Vec2 b = sampleUniformTriangle(u);
+            triangleHitPoint(TriangleHit{b.x, b.y, 1.0f - b.x - b.y, 0.0f}, p0, p1, p2, s.p,
+                             s.pError);
+            s.n = triangleNormal(p0, p1, p2);
+            break;
+        }
+    }
+    s.pdfArea = 1.0f / area(prim);
+    return s;
+}
+
+size_t Geometry::memoryBytes() const {
+    return kind_.capacity() * sizeof(PrimKind) + local_.capacity() * sizeof(uint32_t) +
+           material_.capacity() * sizeof(uint32_t) + spheres_.capacity() * sizeof(Sphere) +
+           quads_.capacity() * sizeof(Quad) + positions_.capacity() * sizeof(Vec3) +
+           triangles_.capacity() * sizeof(glm::uvec3);
+}
+
+}  // namespace caustic

@@ -1,0 +1,90 @@
+// Every primitive of a scene in flat arrays, addressed by one primitive index. Accelerators see
+// only this interface: bounds, intersection and the finishing of a hit.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/bounds.h"
+#include "geometry/hit.h"
+#include "geometry/sphere.h"
+#include "geometry/triangle.h"
+
+namespace caustic {
+
+enum class PrimKind : uint8_t { Sphere, Quad, Triangle };
+
+/// A planar parallelogram with corners v[0], v[0]+u, v[0]+u+v, v[0]+v, stored counter-clockwise so
+/// that its front faces normalize(cross(u, v)). Intersected as two watertight triangles, as Embree
+/// does, so that quads sharing an edge leave no crack.
+struct Quad {
+    Vec3 v[4];
+};
+
+/// A primitive's hit before it is finished into a Hit: distance and surface parameters.
+struct PrimHit {
+    float t;
+    Vec2 uv;
+};
+
+/// The scene's primitives. Built once by the scene loader, then read-only and thread-safe.
+class Geometry {
+public:
+    uint32_t addSphere(const Sphere& s, uint32_t material);
+    uint32_t addQuad(const Vec3& origin, const Vec3& u, const Vec3& v, uint32_t material);
+    /// Adds a triangle mesh: vertex positions and counter-clockwise index triples. Returns the
+    /// primitive index of its first triangle; the others follow in order.
+    uint32_t addTriangles(const std::vector<Vec3>& positions,
+                          const std::vector<glm::uvec3>& triangles, uint32_t material);
+
+    uint32_t size() const { return static_cast<uint32_t>(kind_.size()); }
+    PrimKind kind(uint32_t prim) const { return kind_[prim]; }
+    uint32_t material(uint32_t prim) const { return material_[prim]; }
+    bool hasTriangles() const { return !triangles_.empty(); }
+    Bounds3 bounds(uint32_t prim) const;
+    Bounds3 bounds() const;
+
+    /// Nearest hit of primitive `prim` in (0, tMax), without the normal. Thread-safe.
+    std::optional<PrimHit> intersect(uint32_t prim, const Ray& ray, float tMax) const;
+    /// Completes a primitive hit with the primitive index and the front-side unit normal.
+    Hit finish(uint32_t prim, const Ray& ray, const PrimHit& h) const;
+    /// The surface at a hit: point from the surface parameters, its error bound, normal, material.
+    SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
+
+    /// Surface area of a primitive, and a uniform point on it (density 1 / area).
+    float area(uint32_t prim) const;
+    SurfaceSample sample(uint32_t prim, Vec2 u) const;
+
+    /// The raw arrays, for accelerators that take geometry natively (Embree).
+    const std::vector<Sphere>& spheres() const { return spheres_; }
+    const std::vector<Quad>& quads() const { return quads_; }
+    const std::vector<Vec3>& positions() const { return positions_; }
+    const std::vector<glm::uvec3>& triangles() const { return triangles_; }
+    /// Index of a primitive within the array of its kind.
+    uint32_t localIndex(uint32_t prim) const { return local_[prim]; }
+
+    /// Bytes held by the primitive arrays.
+    size_t memoryBytes() const;
+
+private:
+    uint32_t push(PrimKind kind, uint32_t local, uint32_t material);
+    void triangleVertices(uint32_t local, Vec3& p0, Vec3& p1, Vec3& p2) const {
+        const glm::uvec3& t = triangles_[local];
+        p0 = positions_[t.x];
+        p1 = positions_[t.y];
+        p2 = positions_[t.z];
+    }
+
+    std::vector<PrimKind> kind_;
+    std::vector<uint32_t> local_;
+    std::vector<uint32_t> material_;
+    std::vector<Sphere> spheres_;
+    std::vector<Quad> quads_;
+    std::vector<Vec3> positions_;
+    std::vector<glm::uvec3> triangles_;
+};
+
+}  // namespace caustic

@@ -1,0 +1,54 @@
+#include "integrators/integrator.h"
+
+#include "core/error.h"
+#include "integrators/raycast.h"
+#include "integrators/whitted.h"
+#include "render/settings.h"
+
+namespace caustic {
+
+bool Integrator::unoccluded(const SurfaceInteraction& si, const LightSample& ls,
+                            SampleContext& ctx) const {
+    Vec3 from = offsetRayOrigin(si.p, si.pError, si.n, ls.wi);
+    // Offset the far end too, off the emitter's surface towards the receiver.
+    Vec3 to = glm::dot(ls.at.n, ls.at.n) > 0.0f
+                  ? offsetRayOrigin(ls.at.p, ls.at.pError, ls.at.n, from - ls.at.p)
+                  : ls.at.p;
+    Vec3 d = to - from;
+    float dist = glm::length(d);
+    if (!(dist > 0.0f)) return true;
+    ++ctx.rays;
+    return !accel_.occluded(Ray{from, d / dist}, dist * (1.0f - kShadowEpsilon));
+}
+
+Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
+                                    SampleContext& ctx) const {
+    if (m.isSpecular()) return Color(0.0f);
+    std::optional<SampledLight> chosen = scene_.lightSampler.sample(ctx.rng.uniform());
+    Vec2 u = ctx.rng.uniform2();
+    if (!chosen) return Color(0.0f);
+    std::optional<LightSample> ls = chosen->light->sampleLi(si.p, u);
+    if (!ls || isBlack(ls->Li)) return Color(0.0f);
+    Color f = m.f(wo, ls->wi, si.n);
+    if (isBlack(f) || !unoccluded(si, *ls, ctx)) return Color(0.0f);
+    return f * ls->Li * std::abs(glm::dot(ls->wi, si.n)) / (ls->pdf * chosen->pmf);
+}
+
+const std::vector<std::string>& integratorNames() {
+    static const std::vector<std::string> names{"raycast", "whitted"};
+    return names;
+}
+
+std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerator& accel,
+                                             const RenderSettings& settings) {
+    const std::string& name = settings.integrator;
+    if (name == "raycast") return std::make_unique<RayCastIntegrator>(scene, accel);
+    if (name == "whitted")
+        return std::make_unique<WhittedIntegrator>(scene, accel, settings.maxDepth);
+    std::string valid;
+    for (const std::string& n : integratorNames()) valid += (valid.empty() ? "" : ", ") + n;
+    throw InputError("/settings/integrator",
+                     "unknown integrator \"" + name + "\"; valid: " + valid);
+}
+
+}  // namespace caustic

@@ -1,0 +1,69 @@
+// Integrators estimate the radiance arriving at the camera along a ray. The render loop
+// (render/renderer.h) owns pixels, passes and threads; an integrator owns only light transport.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "accel/accelerator.h"
+#include "core/rng.h"
+#include "lights/light.h"
+#include "scene/scene.h"
+
+namespace caustic {
+
+struct RenderSettings;
+
+/// What one pixel sample carries through an integrator: its random numbers and its counters.
+/// One per thread, re-seeded per sample; never shared.
+struct SampleContext {
+    Rng rng{0};
+    uint64_t rays = 0;
+};
+
+class Integrator {
+public:
+    Integrator(const Scene& scene, const Accelerator& accel) : scene_(scene), accel_(accel) {}
+    virtual ~Integrator() = default;
+
+    /// Prepares pass `pass` before any Li of that pass (photon tracing, for example). Called from
+    /// one thread; deterministic in (seed, pass) so that passes can run on different workers.
+    virtual void beginPass(uint32_t /*pass*/) {}
+    /// One sample of the radiance arriving at the camera along `ray` (world space, unit direction),
+    /// in W/(m^2 sr) per linear RGB channel. Thread-safe.
+    virtual Color Li(const Ray& ray, SampleContext& ctx) const = 0;
+
+protected:
+    /// Closest hit along the ray, counting it.
+    std::optional<Hit> intersect(const Ray& ray, SampleContext& ctx) const {
+        ++ctx.rays;
+        return accel_.intersect(ray, kInfinity);
+    }
+    /// A ray leaving surface point si in unit direction w, offset past the surface's rounding
+    /// error.
+    static Ray spawnRay(const SurfaceInteraction& si, const Vec3& w) {
+        return Ray{offsetRayOrigin(si.p, si.pError, si.n, w), w};
+    }
+    /// Whether nothing blocks the segment from si to the light sample's point.
+    bool unoccluded(const SurfaceInteraction& si, const LightSample& ls, SampleContext& ctx) const;
+    /// Light arriving at si from one light chosen by power and reflected towards wo, with a shadow
+    /// ray: an unbiased estimate of direct lighting (pbrt-v4 13.2). Zero for specular materials.
+    Color sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
+                            SampleContext& ctx) const;
+
+    const Scene& scene_;
+    const Accelerator& accel_;
+};
+
+/// The integrator names `createIntegrator` accepts.
+const std::vector<std::string>& integratorNames();
+
+/// Creates the integrator `settings.integrator` for a scene and accelerator that outlive it.
+/// Throws InputError (path "/settings/integrator") for an unknown name, listing the valid ones.
+std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerator& accel,
+                                             const RenderSettings& settings);
+
+}  // namespace caustic

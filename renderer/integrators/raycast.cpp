@@ -1,0 +1,14 @@
+#include "integrators/raycast.h"
+
+namespace caustic {
+
+Color RayCastIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
+    std::optional<Hit> hit = intersect(ray, ctx);
+    if (!hit) return scene_.background;
+    SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
+    const Material& m = *scene_.materials[si.material];
+    Vec3 wo = -ray.d;
+    return m.Le(wo, si.n) + sampleDirectLight(si, wo, m, ctx);
+}
+
+}  // namespace caustic

@@ -1,0 +1,21 @@
+// Whitted ray tracing (Whitted 1980; pbrt-v3 src/integrators/whitted.cpp): direct light at diffuse
+// hits, and recursion along every specular branch (mirror reflection; dielectric reflection and
+// refraction weighted by Fresnel) up to max_depth bounces.
+#pragma once
+
+#include "integrators/integrator.h"
+
+namespace caustic {
+
+class WhittedIntegrator final : public Integrator {
+public:
+    WhittedIntegrator(const Scene& scene, const Accelerator& accel, int maxDepth)
+        : Integrator(scene, accel), maxDepth_(maxDepth) {}
+    Color Li(const Ray& ray, SampleContext& ctx) const override { return trace(ray, 0, ctx); }
+
+private:
+    Color trace(const Ray& ray, int depth, SampleContext& ctx) const;
+    int maxDepth_;
+};
+
+}  // namespace caustic

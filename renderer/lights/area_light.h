@@ -1,0 +1,27 @@
+// A primitive with an emissive material: uniform radiance Le from its front side.
+#pragma once
+
+#include "geometry/geometry.h"
+#include "lights/light.h"
+
+namespace caustic {
+
+class AreaLight final : public Light {
+public:
+    AreaLight(const Geometry& geometry, uint32_t prim, const Color& Le)
+        : geometry_(geometry), prim_(prim), Le_(Le) {}
+
+    /// Samples a point uniformly by area and converts the density to solid angle.
+    std::optional<LightSample> sampleLi(const Vec3& ref, Vec2 u) const override;
+    /// Le * area * pi: a one-sided Lambertian emitter.
+    Color power() const override { return Le_ * geometry_.area(prim_) * kPi; }
+    bool isDelta() const override { return false; }
+    uint32_t prim() const { return prim_; }
+
+private:
+    const Geometry& geometry_;
+    uint32_t prim_;
+    Color Le_;
+};
+
+}  // namespace caustic

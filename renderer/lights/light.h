@@ -1,0 +1,31 @@
+// Light sources: point lights, and area lights made from emissive primitives.
+#pragma once
+
+#include <optional>
+
+#include "core/math.h"
+#include "geometry/hit.h"
+
+namespace caustic {
+
+/// Incident light at a reference point from a sampled point on a light.
+struct LightSample {
+    Color Li;          ///< Radiance (area) or intensity / distance^2 (point) arriving at the point.
+    Vec3 wi;           ///< Unit direction from the reference point towards the light.
+    float pdf = 0.0f;  ///< Solid-angle density of wi; 1 for a point light.
+    SurfaceSample at;  ///< The point on the light (normal zero for a point light).
+};
+
+class Light {
+public:
+    virtual ~Light() = default;
+    /// Samples incident light at world point `ref` from a 2D sample u in [0,1)^2; nullopt when no
+    /// light can arrive (the back of an emitter, a zero density). Ignores occlusion. Thread-safe.
+    virtual std::optional<LightSample> sampleLi(const Vec3& ref, Vec2 u) const = 0;
+    /// Total emitted power in watts per channel, for choosing lights in proportion to power.
+    virtual Color power() const = 0;
+    /// True for lights that cannot be hit by a ray (point lights).
+    virtual bool isDelta() const = 0;
+};
+
+}  // namespace caustic

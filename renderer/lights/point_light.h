@@ -1,0 +1,33 @@
+// An isotropic point light of radiant intensity I (W/sr): irradiance I cos(theta) / d^2.
+#pragma once
+
+#include "lights/light.h"
+
+namespace caustic {
+
+class PointLight final : public Light {
+public:
+    PointLight(const Vec3& position, const Color& intensity)
+        : position_(position), intensity_(intensity) {}
+
+    std::optional<LightSample> sampleLi(const Vec3& ref, Vec2) const override {
+        Vec3 d = position_ - ref;
+        float dist2 = glm::dot(d, d);
+        if (dist2 == 0.0f) return std::nullopt;
+        LightSample s;
+        s.wi = d / std::sqrt(dist2);
+        s.Li = intensity_ / dist2;
+        s.pdf = 1.0f;
+        s.at = SurfaceSample{position_, Vec3(0.0f), Vec3(0.0f), 1.0f};
+        return s;
+    }
+    Color power() const override { return 4.0f * kPi * intensity_; }
+    bool isDelta() const override { return true; }
+    const Vec3& position() const { return position_; }
+
+private:
+    Vec3 position_;
+    Color intensity_;
+};
+
+}  // namespace caustic

@@ -1,0 +1,53 @@
+#include "materials/dielectric.h"
+
+#include "materials/fresnel.h"
+
+namespace caustic {
+
+float Dielectric::reflectance(const Vec3& wo, const Vec3& n) const {
+    float cosO = glm::dot(wo, n);
+    return fresnel_ == FresnelModel::Exact ? fresnelDielectric(cosO, ior_)
+                                           : fresnelSchlick(cosO, ior_);
+}
+
+int Dielectric::specularLobes(const Vec3& wo, const Vec3& n, TransportMode mode,
+                              SpecularLobe out[2]) const {
+    float r = reflectance(wo, n);
+    int count = 0;
+    if (r > 0.0f) out[count++] = SpecularLobe{reflect(wo, n), r * tint_};
+    float etaPath = 1.0f;
+    Vec3 wt;
+    if (r < 1.0f && refract(wo, n, ior_, etaPath, wt)) {
+        Color t = (1.0f - r) * tint_;
+        // Radiance is compressed into a smaller solid angle on entering a denser medium.
+        if (mode == TransportMode::Radiance) t /= sqr(etaPath);
+        out[count++] = SpecularLobe{wt, t};
+    }
+    return count;
+}
+
+std::optional<BsdfSample> Dielectric::sample(const Vec3& wo, const Vec3& n, float uc, Vec2,
+                                             TransportMode mode) const {
+    SpecularLobe lobes[2];
+    int count = specularLobes(wo, n, mode, lobes);
+    if (count == 0) return std::nullopt;
+    float r = reflectance(wo, n);
+    // Pick reflection with probability R when both lobes exist; otherwise the only one.
+    int pick = 0;
+    float prob = 1.0f;
+    if (count == 2) {
+        pick = uc < r ? 0 : 1;
+        prob = pick == 0 ? r : 1.0f - r;
+    }
+    BsdfSample s;
+    s.wi = lobes[pick].wi;
+    s.pdf = prob;
+    s.weight = lobes[pick].weight / prob;
+    float cosI = std::abs(glm::dot(s.wi, n));
+    s.f = cosI > 0.0f ? lobes[pick].weight / cosI : Color(0.0f);
+    s.specular = true;
+    if (cosI == 0.0f) return std::nullopt;
+    return s;
+}
+
+}  // namespace caustic

@@ -1,0 +1,64 @@
+// Materials: a BSDF for scattering plus optional emission. All are two-sided for scattering;
+// emission leaves the front side (the geometric normal's side) only. Directions point away from the
+// surface; n is the unit geometric normal on the front side.
+#pragma once
+
+#include <optional>
+
+#include "core/math.h"
+
+namespace caustic {
+
+/// Which quantity a path carries: radiance from the camera, or importance from lights (photons).
+/// Refraction scales radiance by 1/eta^2 but not photon power (Veach 1997, section 5.2).
+enum class TransportMode { Radiance, Importance };
+
+/// A sampled scattering direction.
+struct BsdfSample {
+    Vec3 wi;
+    Color f;           ///< BSDF value; for a specular lobe, its weight * pdf / |cos theta_i|.
+    float pdf = 0.0f;  ///< Solid-angle density; for a specular lobe, its selection probability.
+    Color weight;      ///< f |cos theta_i| / pdf: the factor the path throughput is multiplied by.
+    bool specular = false;
+};
+
+/// One deterministic specular branch (for Whitted tracing): direction and its full weight.
+struct SpecularLobe {
+    Vec3 wi;
+    Color weight;
+};
+
+class Material {
+public:
+    explicit Material(const Color& emission, bool specular)
+        : emission_(emission), specular_(specular) {}
+    virtual ~Material() = default;
+
+    /// BSDF value f(wo, wi) for the non-specular part; zero for specular materials. Thread-safe.
+    virtual Color f(const Vec3& wo, const Vec3& wi, const Vec3& n) const = 0;
+    /// Solid-angle density with which `sample` returns wi given wo; zero for specular materials.
+    virtual float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) const = 0;
+    /// Samples wi given wo, from a lobe choice uc in [0,1) and a 2D sample u in [0,1)^2. nullopt
+    /// when no direction scatters (the path ends). Thread-safe.
+    virtual std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, float uc, Vec2 u,
+                                             TransportMode mode) const = 0;
+    /// Every specular branch at once, for deterministic tracing: writes up to two lobes into `out`
+    /// and returns their count; zero for non-specular materials.
+    virtual int specularLobes(const Vec3& wo, const Vec3& n, TransportMode mode,
+                              SpecularLobe out[2]) const = 0;
+
+    /// True when every lobe is a Dirac delta (mirror, dielectric): no light sampling is possible.
+    bool isSpecular() const { return specular_; }
+    bool isEmissive() const { return !isBlack(emission_); }
+    const Color& emission() const { return emission_; }
+    /// Emitted radiance towards w (front side only).
+    Color Le(const Vec3& w, const Vec3& n) const {
+        return glm::dot(w, n) > 0.0f ? emission_ : Color(0.0f);
+    }
+
+private:
+    Color emission_;
+    bool specular_;
+};
+
+}  // namespace caustic

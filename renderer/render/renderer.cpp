@@ -1,0 +1,197 @@
+#include "render/renderer.h"
+
+#include <omp.h>
+
+#include <chrono>
+#include <mutex>
+
+#include "accel/accelerator.h"
+#include "integrators/integrator.h"
+
+namespace caustic {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+constexpr int kTileSize = 16;
+
+// Estimates every pixel of one tile for one pass; returns false when cancelled before it started.
+struct PassRenderer {
+    const Scene& scene;
+    const Integrator& integrator;
+    const RenderSettings& settings;
+    int sppPerPass;
+    uint32_t pass;
+    std::vector<Color>& out;
+
+    // Renders one tile; adds its rays and dropped samples to the counters.
+    void tile(int tx, int ty, uint64_t& rays, uint64_t& dropped) const {
+        const Camera& camera = scene.camera;
+        int x1 = std::min(tx + kTileSize, camera.width());
+        int y1 = std::min(ty + kTileSize, camera.height());
+        SampleContext ctx;
+        for (int y = ty; y < y1; ++y) {
+            for (int x = tx; x < x1; ++x) {
+                uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
+                Color sum(0.0f);
+                int valid = 0;
+                for (int s = 0; s < sppPerPass; ++s) {
+                    ctx.rng = Rng::forSample(settings.seed, pass, pixel, uint64_t(s));
+                    Vec2 jitter = ctx.rng.uniform2();
+                    Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
+                    Color L = integrator.Li(ray, ctx);
+                    // A non-finite sample is a bug or an overflow; keep it out of the image.
+                    if (!isFinite(L)) {
+                        ++dropped;
+                        continue;
+                    }
+                    sum += L;
+                    ++valid;
+                }
+                out[pixel] = valid > 0 ? sum / float(valid) : Color(0.0f);
+            }
+        }
+        rays += ctx.rays;
+    }
+};
+
+}  // namespace
+
+std::string toString(StopReason r) {
+    switch (r) {
+        case StopReason::Spp:
+            return "spp";
+        case StopReason::TimeLimit:
+            return "time_limit";
+        case StopReason::TargetError:
+            return "target_error";
+        case StopReason::Cancelled:
+            return "cancelled";
+    }
+    return "unknown";
+}
+
+nlohmann::json RenderStats::toJson() const {
+    auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+    return {{"setup_seconds", setupSeconds},
+            {"render_seconds", renderSeconds},
+            {"total_seconds", totalSeconds},
+            {"rays", rays},
+            {"samples", samples},
+            {"rays_per_second", raysPerSecond},
+            {"passes", passes},
+            {"spp", sppReached},
+            {"relative_error", number(relativeError)},
+            {"dropped_samples", droppedSamples},
+            {"threads", threads},
+            {"stop_reason", toString(stopReason)}};
+}
+
+RenderResult render(const Scene& scene, const RenderSettings& settings,
+                    const RenderCallbacks& callbacks) {
+    auto t0 = Clock::now();
+    RenderResult result;
+    RenderStats& stats = result.stats;
+    const int width = scene.camera.width(), height = scene.camera.height();
+
+    // Build what this render needs.
+    std::unique_ptr<Accelerator> accel = createAccelerator(settings.accelerator, scene.geometry);
+    std::unique_ptr<Integrator> integrator = createIntegrator(scene, *accel, settings);
+    result.film = std::make_unique<Film>(width, height);
+    Film& film = *result.film;
+    stats.setupSeconds = secondsSince(t0);
+
+    const int threads = settings.threads > 0 ? settings.threads : omp_get_max_threads();
+    const int sppPerPass = settings.resolvedSppPerPass();
+    const int passesTotal = (settings.spp + sppPerPass - 1) / sppPerPass;
+    const int tilesX = (width + kTileSize - 1) / kTileSize;
+    const int tilesY = (height + kTileSize - 1) / kTileSize;
+    const int tileCount = tilesX * tilesY;
+    stats.threads = threads;
+
+    auto tRender = Clock::now();
+    std::vector<Color> passImage(size_t(width) * size_t(height));
+    std::mutex progressMutex;
+    auto lastProgress = Clock::now();
+    auto cancelled = [&] { return callbacks.cancel && callbacks.cancel->load(); };
+    auto overTime = [&] {
+        return settings.timeLimit > 0 && film.passes() > 0 &&
+               secondsSince(tRender) >= settings.timeLimit;
+    };
+    auto report = [&](double fraction) {
+        if (!callbacks.onProgress) return;
+        RenderProgress p;
+        p.passesDone = film.passes();
+        p.passesTotal = passesTotal;
+        p.fraction = std::clamp(fraction, 0.0, 1.0);
+        p.elapsedSeconds = secondsSince(tRender);
+        p.relativeError = film.relativeError();
+        callbacks.onProgress(p);
+    };
+
+    bool stopped = false;
+    for (int pass = 0; pass < passesTotal && !stopped; ++pass) {
+        integrator->beginPass(uint32_t(pass));
+        PassRenderer renderer{scene, *integrator, settings, sppPerPass, uint32_t(pass), passImage};
+        std::atomic<int> tilesDone{0};
+        std::atomic<bool> abandon{false};
+        uint64_t rays = 0, dropped = 0;
+
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : rays, dropped)
+        for (int t = 0; t < tileCount; ++t) {
+            if (abandon.load(std::memory_order_relaxed)) continue;
+            if (cancelled() || overTime()) {
+                abandon = true;
+                continue;
+            }
+            renderer.tile((t % tilesX) * kTileSize, (t / tilesX) * kTileSize, rays, dropped);
+            int done = ++tilesDone;
+            // Throttled progress from whichever thread gets the lock.
+            std::unique_lock lock(progressMutex, std::try_to_lock);
+            if (lock && secondsSince(lastProgress) > 0.1) {
+                lastProgress = Clock::now();
+                report((pass + double(done) / tileCount) / passesTotal);
+            }
+        }
+        stats.rays += rays;
+        if (abandon) {
+            // A partial pass is not an estimate of the image: leave it out.
+            stats.stopReason = cancelled() ? StopReason::Cancelled : StopReason::TimeLimit;
+            break;
+        }
+        film.addPass(passImage);
+        film.addDropped(dropped);
+        report(double(pass + 1) / passesTotal);
+        if (callbacks.onPass) callbacks.onPass(film);
+
+        // Stopping rules, after whole passes.
+        if (cancelled()) {
+            stats.stopReason = StopReason::Cancelled;
+            stopped = true;
+        } else if (settings.targetError > 0 && film.passes() >= 2 &&
+                   film.relativeError() <= settings.targetError) {
+            stats.stopReason = StopReason::TargetError;
+            stopped = true;
+        } else if (settings.timeLimit > 0 && secondsSince(tRender) >= settings.timeLimit &&
+                   pass + 1 < passesTotal) {
+            stats.stopReason = StopReason::TimeLimit;
+            stopped = true;
+        }
+    }
+
+    stats.renderSeconds = secondsSince(tRender);
+    stats.totalSeconds = secondsSince(t0);
+    stats.passes = film.passes();
+    stats.sppReached = film.passes() * sppPerPass;
+    stats.samples = uint64_t(stats.sppReached) * uint64_t(width) * uint64_t(height);
+    stats.raysPerSecond = stats.renderSeconds > 0 ? double(stats.rays) / stats.renderSeconds : 0;
+    stats.relativeError = film.relativeError();
+    stats.droppedSamples = film.droppedSamples();
+    return result;
+}
+
+}  // namespace caustic

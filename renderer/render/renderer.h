@@ -1,0 +1,70 @@
+// The render loop shared by every integrator: passes of whole-image estimates, rendered in tiles on
+// OpenMP threads, accumulated in a Film, stopped by spp, time limit, target error or cancellation.
+// Pixel samples are seeded from (seed, pass, pixel, sample), so the image is bit-identical for any
+// thread count.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "film/film.h"
+#include "render/settings.h"
+#include "scene/scene.h"
+
+namespace caustic {
+
+/// Why a render stopped.
+enum class StopReason { Spp, TimeLimit, TargetError, Cancelled };
+std::string toString(StopReason r);
+
+/// What a render cost and how accurate it is.
+struct RenderStats {
+    double setupSeconds = 0;   ///< Building the accelerator and integrator.
+    double renderSeconds = 0;  ///< The passes.
+    double totalSeconds = 0;
+    uint64_t rays = 0;         ///< Every ray traced: camera, bounce and shadow.
+    uint64_t samples = 0;      ///< Camera samples taken (pixels x spp reached).
+    double raysPerSecond = 0;  ///< rays / renderSeconds.
+    int passes = 0;
+    int sppReached = 0;
+    double relativeError = 0;     ///< Film::relativeError(); NaN with fewer than 2 passes.
+    uint64_t droppedSamples = 0;  ///< NaN or infinite samples left out.
+    int threads = 0;
+    StopReason stopReason = StopReason::Spp;
+    nlohmann::json toJson() const;
+};
+
+/// Reported during the render, from one thread at a time, at most about every 100 ms and after
+/// every pass.
+struct RenderProgress {
+    int passesDone = 0;
+    int passesTotal = 0;
+    double fraction = 0;  ///< Of the spp budget, in [0, 1].
+    double elapsedSeconds = 0;
+    double relativeError = 0;  ///< Of the passes done; NaN before two.
+};
+
+struct RenderCallbacks {
+    /// Progress; must be cheap and thread-safe (it is called from worker threads, one at a time).
+    std::function<void(const RenderProgress&)> onProgress;
+    /// After each pass is added to the film, from the calling thread (previews, checkpoints).
+    std::function<void(const Film&)> onPass;
+    /// Polled between tiles; when it becomes true the render stops, discarding the partial pass.
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+struct RenderResult {
+    std::unique_ptr<Film> film;
+    RenderStats stats;
+};
+
+/// Renders `scene` with `settings`. Throws InputError for settings the scene cannot use.
+RenderResult render(const Scene& scene, const RenderSettings& settings,
+                    const RenderCallbacks& callbacks = {});
+
+}  // namespace caustic

@@ -1,0 +1,239 @@
+#include "render/settings.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "accel/accelerator.h"
+#include "core/error.h"
+#include "integrators/integrator.h"
+#include "scene/json_reader.h"
+
+namespace caustic {
+
+const std::vector<SettingSpec>& settingSpecs() {
+    static const std::vector<SettingSpec> specs = [] {
+        using T = SettingType;
+        RenderSettings d;
+        return std::vector<SettingSpec>{
+            {"integrator",
+             T::String,
+             d.integrator,
+             0,
+             0,
+             integratorNames(),
+             "",
+             "Light transport algorithm.",
+             {}},
+            {"spp",
+             T::Integer,
+             d.spp,
+             1,
+             1e6,
+             {},
+             "samples/pixel",
+             "Samples per pixel; the render stops when it has taken them all.",
+             {}},
+            {"spp_per_pass",
+             T::Integer,
+             d.sppPerPass,
+             0,
+             1e6,
+             {},
+             "samples/pixel",
+             "Samples per pixel in each pass (one independent estimate of the image). 0 chooses "
+             "about 64 equal passes. Error estimates need at least 2 passes.",
+             {}},
+            {"time_limit",
+             T::Number,
+             d.timeLimit,
+             0,
+             1e6,
+             {},
+             "s",
+             "Stop after the pass that reaches this wall time; 0 for no limit.",
+             {}},
+            {"target_error",
+             T::Number,
+             d.targetError,
+             0,
+             1,
+             {},
+             "",
+             "Stop once the estimated relative RMS error is at most this; 0 for no target.",
+             {}},
+            {"max_depth",
+             T::Integer,
+             d.maxDepth,
+             1,
+             1024,
+             {},
+             "bounces",
+             "Longest path traced; Whitted recursion depth.",
+             {}},
+            {"accelerator",
+             T::String,
+             d.accelerator,
+             0,
+             0,
+             acceleratorNames(),
+             "",
+             "Ray intersection structure.",
+             {}},
+            {"seed",
+             T::Integer,
+             d.seed,
+             0,
+             9007199254740991.0,
+             {},
+             "",
+             "Random seed: the same scene, settings and seed give the same image.",
+             {}},
+            {"threads",
+             T::Integer,
+             d.threads,
+             0,
+             1024,
+             {},
+             "",
+             "Worker threads; 0 uses every core. The image does not depend on it.",
+             {}},
+            {"exposure",
+             T::Number,
+             d.exposure,
+             -20,
+             20,
+             {},
+             "stops",
+             "Scales PNG output by 2^exposure before sRGB encoding; EXR output stays linear.",
+             {}},
+        };
+    }();
+    return specs;
+}
+
+Json settingsSchemaJson() {
+    static const char* typeNames[] = {"integer", "number", "boolean", "string"};
+    Json out = Json::object();
+    for (const SettingSpec& s : settingSpecs()) {
+        Json j{{"type", typeNames[static_cast<int>(s.type)]},
+               {"default", s.defaultValue},
+               {"description", s.description}};
+        if (s.type == SettingType::Integer || s.type == SettingType::Number) {
+            j["minimum"] = s.min;
+            j["maximum"] = s.max;
+        }
+        if (!s.choices.empty()) j["enum"] = s.choices;
+        if (!s.unit.empty()) j["unit"] = s.unit;
+        j["integrators"] = s.integrators;
+        out[s.name] = j;
+    }
+    return out;
+}
+
+Json mergeSettings(const Json& defaults, const Json& overrides) {
+    Json merged = defaults.is_object() ? defaults : Json::object();
+    if (overrides.is_object())
+        for (auto it = overrides.begin(); it != overrides.end(); ++it)
+            merged[it.key()] = it.value();
+    return merged;
+}
+
+namespace {
+
+std::string formatNumber(double v) {
+    Json j = v;
+    if (v == std::floor(v) && std::abs(v) < 1e15) j = static_cast<int64_t>(v);
+    return j.dump();
+}
+
+// Validates one value against its spec; returns it normalized.
+Json validate(const SettingSpec& spec, const Json& v, const std::string& path) {
+    switch (spec.type) {
+        case SettingType::Integer:
+        case SettingType::Number: {
+            double x = spec.type == SettingType::Integer ? static_cast<double>(readInteger(v, path))
+                                                         : static_cast<double>(readNumber(v, path));
+            if (spec.type == SettingType::Number) x = v.get<double>();
+            if (x < spec.min || x > spec.max)
+                throw InputError(path, "must be in [" + formatNumber(spec.min) + ", " +
+                                           formatNumber(spec.max) + "], got " + formatNumber(x));
+            return spec.type == SettingType::Integer ? Json(static_cast<int64_t>(x)) : Json(x);
+        }
+        case SettingType::Boolean:
+            if (!v.is_boolean())
+                throw InputError(path, "expected a boolean, got " + jsonTypeName(v));
+            return v;
+        case SettingType::String: {
+            if (!v.is_string()) throw InputError(path, "expected a string, got " + jsonTypeName(v));
+            std::string s = v.get<std::string>();
+            if (!spec.choices.empty() &&
+                std::find(spec.choices.begin(), spec.choices.end(), s) == spec.choices.end()) {
+                std::string valid;
+                for (const std::string& c : spec.choices) valid += (valid.empty() ? "" : ", ") + c;
+                throw InputError(path, "unknown value \"" + s + "\"; valid: " + valid);
+            }
+            return v;
+        }
+    }
+    return v;
+}
+
+}  // namespace
+
+RenderSettings parseSettings(const Json& settings, const std::string& path) {
+    if (!settings.is_object())
+        throw InputError(path, "expected an object, got " + jsonTypeName(settings));
+    Json values = Json::object();
+    for (const SettingSpec& spec : settingSpecs()) values[spec.name] = spec.defaultValue;
+    for (auto it = settings.begin(); it != settings.end(); ++it) {
+        auto spec = std::find_if(settingSpecs().begin(), settingSpecs().end(),
+                                 [&](const SettingSpec& s) { return s.name == it.key(); });
+        std::string at = jsonPointer(path, it.key());
+        if (spec == settingSpecs().end()) {
+            std::string valid;
+            for (const SettingSpec& s : settingSpecs())
+                valid += (valid.empty() ? "" : ", ") + s.name;
+            throw InputError(at, "unknown setting; valid settings: " + valid);
+        }
+        values[it.key()] = validate(*spec, it.value(), at);
+    }
+    RenderSettings r;
+    r.integrator = values["integrator"].get<std::string>();
+    r.spp = values["spp"].get<int>();
+    r.sppPerPass = values["spp_per_pass"].get<int>();
+    r.timeLimit = values["time_limit"].get<double>();
+    r.targetError = values["target_error"].get<double>();
+    r.maxDepth = values["max_depth"].get<int>();
+    r.accelerator = values["accelerator"].get<std::string>();
+    r.seed = values["seed"].get<uint64_t>();
+    r.threads = values["threads"].get<int>();
+    r.exposure = values["exposure"].get<double>();
+    if (r.sppPerPass > r.spp)
+        throw InputError(jsonPointer(path, "spp_per_pass"),
+                         "must be at most spp (" + std::to_string(r.spp) + ")");
+    return r;
+}
+
+int RenderSettings::resolvedSppPerPass() const {
+    if (sppPerPass > 0) return sppPerPass;
+    int best = 1;
+    for (int d = 1; d <= spp / 64; ++d)
+        if (spp % d == 0) best = d;
+    return best;
+}
+
+Json RenderSettings::toJson() const {
+    return Json{{"integrator", integrator},    {"spp", spp},
+                {"spp_per_pass", sppPerPass},  {"time_limit", timeLimit},
+                {"target_error", targetError}, {"max_depth", maxDepth},
+                {"accelerator", accelerator},  {"seed", seed},
+                {"threads", threads},          {"exposure", exposure}};
+}
+
+Json parseSettingValue(const std::string& text) {
+    Json v = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (v.is_discarded()) return Json(text);
+    return v;
+}
+
+}  // namespace caustic

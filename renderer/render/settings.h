@@ -1,0 +1,62 @@
+// Render settings: one table describes every setting (type, default, range, unit, which integrators
+// read it), and every reader (scene files, the CLI's --set, the server, the web page) goes through
+// it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace caustic {
+
+using Json = nlohmann::json;
+
+/// The validated settings of one render. Field names follow the JSON keys.
+struct RenderSettings {
+    std::string integrator = "whitted";
+    int spp = 16;            ///< Samples per pixel: the most the render takes.
+    int sppPerPass = 0;      ///< Samples per pixel in each pass; 0 chooses automatically.
+    double timeLimit = 0;    ///< Seconds; 0 for none.
+    double targetError = 0;  ///< Relative RMS error to stop at; 0 for none.
+    int maxDepth = 8;        ///< Longest path, in bounces.
+    std::string accelerator = "bruteforce";
+    uint64_t seed = 0;
+    int threads = 0;      ///< 0 uses every core.
+    double exposure = 0;  ///< Stops (powers of two) applied to PNG output.
+
+    /// Samples per pass after resolving 0: the largest divisor of spp no greater than spp / 64, so
+    /// that a render has about 64 equal passes (every pass when spp < 64).
+    int resolvedSppPerPass() const;
+    Json toJson() const;
+};
+
+enum class SettingType { Integer, Number, Boolean, String };
+
+struct SettingSpec {
+    std::string name;
+    SettingType type;
+    Json defaultValue;
+    double min = 0, max = 0;           ///< Inclusive range for numbers.
+    std::vector<std::string> choices;  ///< Valid values for strings.
+    std::string unit;
+    std::string description;
+    std::vector<std::string> integrators;  ///< Integrators that read it; empty for all.
+};
+
+/// Every setting, in documentation order.
+const std::vector<SettingSpec>& settingSpecs();
+/// The table as JSON: {name: {type, default, minimum, maximum, enum, unit, description,
+/// integrators}}, for the API and the web page.
+Json settingsSchemaJson();
+
+/// Overlays `overrides` on `defaults` (both objects of settings), key by key.
+Json mergeSettings(const Json& defaults, const Json& overrides);
+/// Validates a settings object against the table and fills RenderSettings. Unknown keys, wrong
+/// types, and values out of range are InputErrors with the path `path`/key.
+RenderSettings parseSettings(const Json& settings, const std::string& path = "/settings");
+/// Parses the value of a command-line `key=value`: JSON when it parses as JSON, else a string.
+Json parseSettingValue(const std::string& text);
+
+}  // namespace caustic

@@ -1,0 +1,36 @@
+// A pinhole camera with a vertical field of view. Raster space: x right, y down, pixel (i, j)
+// covers [i, i+1) x [j, j+1).
+#pragma once
+
+#include "core/ray.h"
+
+namespace caustic {
+
+class Camera {
+public:
+    Camera() = default;
+    /// fovDegrees is the vertical field of view, in (0, 180). Requires position != lookAt and up
+    /// not parallel to the viewing direction (the scene loader checks both).
+    Camera(const Vec3& position, const Vec3& lookAt, const Vec3& up, float fovDegrees, int width,
+           int height);
+
+    /// The primary ray through raster point (x, y); unit direction. Thread-safe.
+    Ray generateRay(float x, float y) const {
+        float sx = (2.0f * x / static_cast<float>(width_) - 1.0f) * tanHalfX_;
+        float sy = (1.0f - 2.0f * y / static_cast<float>(height_)) * tanHalfY_;
+        return Ray{position_, glm::normalize(forward_ + sx * right_ + sy * up_)};
+    }
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    const Vec3& position() const { return position_; }
+    const Vec3& forward() const { return forward_; }
+
+private:
+    Vec3 position_{0.0f}, forward_{0.0f, 0.0f, -1.0f}, right_{1.0f, 0.0f, 0.0f},
+        up_{0.0f, 1.0f, 0.0f};
+    float tanHalfX_ = 1.0f, tanHalfY_ = 1.0f;
+    int width_ = 1, height_ = 1;
+};
+
+}  // namespace caustic

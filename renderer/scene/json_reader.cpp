@@ -1,0 +1,166 @@
+#include "scene/json_reader.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace caustic {
+
+std::string jsonPointer(const std::string& parent, const std::string& key) {
+    std::string escaped;
+    for (char c : key) {
+        if (c == '~')
+            escaped += "~0";
+        else if (c == '/')
+            escaped += "~1";
+        else
+            escaped += c;
+    }
+    return parent + "/" + escaped;
+}
+
+std::string jsonPointer(const std::string& parent, size_t index) {
+    return parent + "/" + std::to_string(index);
+}
+
+std::string jsonTypeName(const Json& j) {
+    switch (j.type()) {
+        case Json::value_t::null:
+            return "null";
+        case Json::value_t::object:
+            return "an object";
+        case Json::value_t::array:
+            return "an array";
+        case Json::value_t::string:
+            return "a string";
+        case Json::value_t::boolean:
+            return "a boolean";
+        case Json::value_t::binary:
+            return "binary data";
+        case Json::value_t::discarded:
+            return "nothing";
+        default:
+            return "a number";
+    }
+}
+
+namespace {
+
+std::string joinNames(std::vector<std::string> names) {
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+}
+
+}  // namespace
+
+float readNumber(const Json& j, const std::string& path) {
+    if (!j.is_number()) throw InputError(path, "expected a number, got " + jsonTypeName(j));
+    double v = j.get<double>();
+    if (!std::isfinite(v)) throw InputError(path, "must be a finite number");
+    if (std::abs(v) > 3.0e38)
+        throw InputError(path, "is out of the range of a float (|x| <= 3e38)");
+    return static_cast<float>(v);
+}
+
+int64_t readInteger(const Json& j, const std::string& path) {
+    if (j.is_number_integer()) return j.get<int64_t>();
+    if (j.is_number_float()) {
+        double v = j.get<double>();
+        if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 9.0e15)
+            return static_cast<int64_t>(v);
+    }
+    throw InputError(path, "expected an integer, got " +
+                               (j.is_number() ? std::string("a fraction") : jsonTypeName(j)));
+}
+
+Vec3 readVec3(const Json& j, const std::string& path) {
+    if (!j.is_array() || j.size() != 3)
+        throw InputError(
+            path, "expected an array of 3 numbers, got " +
+                      (j.is_array() ? "an array of " + std::to_string(j.size()) : jsonTypeName(j)));
+    return Vec3(readNumber(j[0], jsonPointer(path, 0)), readNumber(j[1], jsonPointer(path, 1)),
+                readNumber(j[2], jsonPointer(path, 2)));
+}
+
+JsonObject::JsonObject(const Json& j, std::string path) : j_(j), path_(std::move(path)) {
+    if (!j.is_object()) throw InputError(path_, "expected an object, got " + jsonTypeName(j));
+}
+
+const Json* JsonObject::find(const std::string& key) {
+    known_.push_back(key);
+    auto it = j_.find(key);
+    return it == j_.end() ? nullptr : &*it;
+}
+
+const Json& JsonObject::require(const std::string& key) {
+    const Json* v = find(key);
+    if (!v) throw InputError(pathOf(key), "missing required field");
+    return *v;
+}
+
+std::string JsonObject::string(const std::string& key) {
+    const Json& v = require(key);
+    if (!v.is_string()) throw InputError(pathOf(key), "expected a string, got " + jsonTypeName(v));
+    return v.get<std::string>();
+}
+
+std::string JsonObject::string(const std::string& key, const std::string& fallback) {
+    return j_.contains(key) ? string(key) : (find(key), fallback);
+}
+
+std::string JsonObject::choice(const std::string& key, const std::vector<std::string>& choices,
+                               const std::optional<std::string>& fallback) {
+    std::string v = fallback && !j_.contains(key) ? (find(key), *fallback) : string(key);
+    if (std::find(choices.begin(), choices.end(), v) == choices.end())
+        throw InputError(pathOf(key), "unknown value \"" + v + "\"; valid: " + joinNames(choices));
+    return v;
+}
+
+float JsonObject::number(const std::string& key) {
+    return readNumber(require(key), pathOf(key));
+}
+
+float JsonObject::number(const std::string& key, float fallback) {
+    const Json* v = find(key);
+    return v ? readNumber(*v, pathOf(key)) : fallback;
+}
+
+float JsonObject::positive(const std::string& key) {
+    float v = number(key);
+    if (!(v > 0.0f)) throw InputError(pathOf(key), "must be > 0");
+    return v;
+}
+
+Vec3 JsonObject::vec3(const std::string& key) {
+    return readVec3(require(key), pathOf(key));
+}
+
+Vec3 JsonObject::vec3(const std::string& key, const Vec3& fallback) {
+    const Json* v = find(key);
+    return v ? readVec3(*v, pathOf(key)) : fallback;
+}
+
+Color JsonObject::color(const std::string& key) {
+    Color c = vec3(key);
+    for (int i = 0; i < 3; ++i)
+        if (c[i] < 0.0f) throw InputError(jsonPointer(pathOf(key), size_t(i)), "must be >= 0");
+    return c;
+}
+
+Color JsonObject::color(const std::string& key, const Color& fallback) {
+    return j_.contains(key) ? color(key) : (find(key), fallback);
+}
+
+void JsonObject::finish() const {
+    for (auto it = j_.begin(); it != j_.end(); ++it) {
+        if (std::find(known_.begin(), known_.end(), it.key()) == known_.end())
+            throw InputError(pathOf(it.key()),
+                             "unknown field; valid fields here: " + joinNames(known_));
+    }
+}
+
+}  // namespace caustic

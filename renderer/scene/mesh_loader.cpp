@@ -1,0 +1,81 @@
+#include "scene/mesh_loader.h"
+
+#include <tiny_obj_loader.h>
+
+#include "core/error.h"
+
+namespace caustic {
+
+namespace fs = std::filesystem;
+
+Vec3 MeshTransform::apply(const Vec3& p) const {
+    Vec3 q = p * scale;
+    const Vec3 r = rotateDegrees * (kPi / 180.0f);
+    // Rotate about x, then y, then z (right-handed, counter-clockwise looking down the axis).
+    q = Vec3(q.x, q.y * std::cos(r.x) - q.z * std::sin(r.x),
+             q.y * std::sin(r.x) + q.z * std::cos(r.x));
+    q = Vec3(q.x * std::cos(r.y) + q.z * std::sin(r.y), q.y,
+             -q.x * std::sin(r.y) + q.z * std::cos(r.y));
+    q = Vec3(q.x * std::cos(r.z) - q.y * std::sin(r.z), q.x * std::sin(r.z) + q.y * std::cos(r.z),
+             q.z);
+    return q + translate;
+}
+
+fs::path resolveAsset(const fs::path& assetsDir, const std::string& name, const std::string& path) {
+    fs::path rel(name);
+    if (name.empty()) throw InputError(path, "must name a file in the assets folder");
+    if (rel.is_absolute() || rel.has_root_name() || rel.has_root_directory())
+        throw InputError(path, "\"" + name + "\" must be a path relative to the assets folder");
+    for (const fs::path& part : rel)
+        if (part == "..")
+            throw InputError(path, "\"" + name + "\" must not leave the assets folder (\"..\")");
+    std::error_code ec;
+    fs::path root = fs::weakly_canonical(assetsDir, ec);
+    fs::path full = fs::weakly_canonical(assetsDir / rel, ec);
+    // A link inside the folder must not lead out of it either.
+    auto [rootEnd, fullIt] = std::mismatch(root.begin(), root.end(), full.begin(), full.end());
+    if (ec || rootEnd != root.end())
+        throw InputError(path, "\"" + name + "\" must not leave the assets folder");
+    if (!fs::is_regular_file(full, ec))
+        throw InputError(path, "no file \"" + name + "\" in the assets folder");
+    return full;
+}
+
+TriangleMesh loadObj(const fs::path& file, const MeshTransform& transform,
+                     const std::string& path) {
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = "";  // materials come from the scene, never from .mtl files
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(file.string(), config)) {
+        std::string err = reader.Error();
+        while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+        throw InputError(path, "cannot read OBJ file " + file.filename().string() + ": " + err);
+    }
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+    TriangleMesh mesh;
+    size_t vertexCount = attrib.vertices.size() / 3;
+    mesh.positions.reserve(vertexCount);
+    for (size_t i = 0; i < vertexCount; ++i) {
+        Vec3 p(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
+        p = transform.apply(p);
+        if (!isFinite(p))
+            throw InputError(path, "vertex " + std::to_string(i + 1) + " of " +
+                                       file.filename().string() + " is not finite");
+        mesh.positions.push_back(p);
+    }
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        const std::vector<tinyobj::index_t>& idx = shape.mesh.indices;
+        for (size_t f = 0; f + 2 < idx.size(); f += 3) {
+            glm::uvec3 t(idx[f].vertex_index, idx[f + 1].vertex_index, idx[f + 2].vertex_index);
+            if (t.x >= vertexCount || t.y >= vertexCount || t.z >= vertexCount)
+                throw InputError(path, file.filename().string() + " has a face index out of range");
+            mesh.triangles.push_back(t);
+        }
+    }
+    if (mesh.triangles.empty()) throw InputError(path, file.filename().string() + " has no faces");
+    return mesh;
+}
+
+}  // namespace caustic

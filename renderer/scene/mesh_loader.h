@@ -1,0 +1,37 @@
+// OBJ meshes through tinyobjloader, confined to the assets folder.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/math.h"
+
+namespace caustic {
+
+struct TriangleMesh {
+    std::vector<Vec3> positions;
+    std::vector<glm::uvec3> triangles;  ///< Counter-clockwise index triples.
+};
+
+/// Scale, then rotations about x, y and z in degrees, then translation.
+struct MeshTransform {
+    Vec3 scale{1.0f};
+    Vec3 rotateDegrees{0.0f};
+    Vec3 translate{0.0f};
+    Vec3 apply(const Vec3& p) const;
+};
+
+/// Resolves `name` inside `assetsDir`: relative, no ".." component, no escape through links; it
+/// must name an existing file. Throws InputError at `path` otherwise.
+std::filesystem::path resolveAsset(const std::filesystem::path& assetsDir, const std::string& name,
+                                   const std::string& path);
+
+/// Loads an OBJ file's faces (polygons are triangulated) and applies `transform`. Throws InputError
+/// at `path` for unreadable files or files without faces.
+TriangleMesh loadObj(const std::filesystem::path& file, const MeshTransform& transform,
+                     const std::string& path);
+
+}  // namespace caustic

@@ -1,0 +1,53 @@
+// A loaded scene: camera, primitives, materials, lights, background, and default settings. Built by
+// the loader, then read-only: every render of it may run on many threads.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/geometry.h"
+#include "lights/light.h"
+#include "lights/light_sampler.h"
+#include "materials/material.h"
+#include "scene/camera.h"
+
+namespace caustic {
+
+struct Scene {
+    Camera camera;
+    Geometry geometry;
+    std::vector<std::unique_ptr<Material>> materials;
+    std::vector<std::string> materialNames;
+    /// Point lights and one area light per emissive primitive.
+    std::vector<std::unique_ptr<Light>> lights;
+    /// Chooses among `lights` by power; empty (and free) when nothing emits.
+    LightSampler lightSampler;
+    Color background{0.0f};
+    /// The scene file's "settings" object: defaults a job's own settings override.
+    nlohmann::json settings = nlohmann::json::object();
+
+    const Material& material(uint32_t prim) const { return *materials[geometry.material(prim)]; }
+};
+
+struct SceneOptions {
+    /// Folder that mesh "file" names resolve in; no name may leave it.
+    std::filesystem::path assetsDir;
+    /// Largest resolution accepted, per side and in pixels.
+    int maxResolution = 16384;
+    int64_t maxPixels = int64_t(16384) * 16384;
+};
+
+/// Builds a scene from its JSON document (DESIGN.md, "Scene format"). Throws InputError naming the
+/// JSON path of the first problem.
+std::unique_ptr<Scene> loadScene(const nlohmann::json& doc, const SceneOptions& options);
+
+/// Reads and parses a JSON file; InputError with the line and column of a syntax error.
+nlohmann::json readJsonFile(const std::filesystem::path& file);
+/// Parses JSON text; InputError with the line and column of a syntax error.
+nlohmann::json parseJson(const std::string& text);
+
+}  // namespace caustic

@@ -1,0 +1,223 @@
+// Scene JSON -> Scene, validated strictly (DESIGN.md, "Scene format").
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/error.h"
+#include "lights/area_light.h"
+#include "lights/point_light.h"
+#include "materials/dielectric.h"
+#include "materials/diffuse.h"
+#include "materials/mirror.h"
+#include "scene/json_reader.h"
+#include "scene/mesh_loader.h"
+#include "scene/scene.h"
+
+namespace caustic {
+namespace {
+
+const std::vector<std::string> kMaterialTypes{"diffuse", "mirror", "dielectric"};
+const std::vector<std::string> kShapeTypes{"sphere", "quad", "triangle", "mesh"};
+const std::vector<std::string> kLightTypes{"point"};
+
+// A reflectance in [0, 1] per channel: anything above 1 would create energy.
+Color readReflectance(JsonObject& o, const std::string& key, const Color& fallback) {
+    Color c = o.color(key, fallback);
+    for (int i = 0; i < 3; ++i)
+        if (c[i] > 1.0f)
+            throw InputError(jsonPointer(o.pathOf(key), size_t(i)),
+                             "must be <= 1 (energy conservation)");
+    return c;
+}
+
+Camera readCamera(const Json& j, const SceneOptions& options) {
+    JsonObject o(j, "/camera");
+    Vec3 position = o.vec3("position");
+    Vec3 lookAt = o.vec3("look_at");
+    Vec3 up = o.vec3("up", Vec3(0.0f, 1.0f, 0.0f));
+    float fov = o.number("fov", 40.0f);
+    int64_t width = o.find("width") ? readInteger(j["width"], o.pathOf("width")) : 512;
+    int64_t height = o.find("height") ? readInteger(j["height"], o.pathOf("height")) : 512;
+    o.finish();
+    if (!(fov > 0.0f && fov < 180.0f))
+        throw InputError(o.pathOf("fov"), "must be in (0, 180) degrees");
+    for (auto [key, v] : {std::pair{"width", width}, std::pair{"height", height}})
+        if (v < 1 || v > options.maxResolution)
+            throw InputError(o.pathOf(key), "must be in [1, " +
+                                                std::to_string(options.maxResolution) + "], got " +
+                                                std::to_string(v));
+    if (width * height > options.maxPixels)
+        throw InputError(o.pathOf("width"), "width x height must be at most " +
+                                                std::to_string(options.maxPixels) + " pixels");
+    Vec3 forward = lookAt - position;
+    if (glm::dot(forward, forward) == 0.0f)
+        throw InputError(o.pathOf("look_at"), "must differ from position");
+    Vec3 side = glm::cross(glm::normalize(forward), up);
+    if (!(glm::length(side) > 1e-6f * glm::length(up)))
+        throw InputError(o.pathOf("up"), "must not be zero or parallel to the viewing direction");
+    return Camera(position, lookAt, up, fov, static_cast<int>(width), static_cast<int>(height));
+}
+
+std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path) {
+    JsonObject o(j, path);
+    std::string type = o.choice("type", kMaterialTypes);
+    Color emission = o.color("emission", Color(0.0f));
+    std::unique_ptr<Material> m;
+    if (type == "diffuse") {
+        m = std::make_unique<Diffuse>(readReflectance(o, "albedo", Color(0.8f)), emission);
+    } else if (type == "mirror") {
+        m = std::make_unique<Mirror>(readReflectance(o, "reflectance", Color(1.0f)), emission);
+    } else {
+        float ior = o.number("ior", 1.5f);
+        if (!(ior > 0.0f)) throw InputError(o.pathOf("ior"), "must be > 0");
+        std::string fresnel = o.choice("fresnel", {"exact", "schlick"}, "exact");
+        Color tint = readReflectance(o, "tint", Color(1.0f));
+        m = std::make_unique<Dielectric>(
+            ior, fresnel == "exact" ? FresnelModel::Exact : FresnelModel::Schlick, tint, emission);
+    }
+    o.finish();
+    return m;
+}
+
+uint32_t readMaterialRef(JsonObject& o, const Scene& scene) {
+    std::string name = o.string("material");
+    for (size_t i = 0; i < scene.materialNames.size(); ++i)
+        if (scene.materialNames[i] == name) return static_cast<uint32_t>(i);
+    std::string valid;
+    for (const std::string& n : scene.materialNames) valid += (valid.empty() ? "" : ", ") + n;
+    throw InputError(o.pathOf("material"), "unknown material \"" + name + "\"; valid: " +
+                                               (valid.empty() ? "(none defined)" : valid));
+}
+
+MeshTransform readTransform(const Json& j, const std::string& path) {
+    JsonObject o(j, path);
+    MeshTransform t;
+    if (const Json* s = o.find("scale")) {
+        t.scale = s->is_number() ? Vec3(readNumber(*s, o.pathOf("scale")))
+                                 : readVec3(*s, o.pathOf("scale"));
+        for (int i = 0; i < 3; ++i)
+            if (!(t.scale[i] != 0.0f)) throw InputError(o.pathOf("scale"), "must not be zero");
+    }
+    t.rotateDegrees = o.vec3("rotate", Vec3(0.0f));
+    t.translate = o.vec3("translate", Vec3(0.0f));
+    o.finish();
+    return t;
+}
+
+void readShape(const Json& j, const std::string& path, Scene& scene, const SceneOptions& options) {
+    JsonObject o(j, path);
+    std::string type = o.choice("type", kShapeTypes);
+    uint32_t material = readMaterialRef(o, scene);
+    if (type == "sphere") {
+        Vec3 center = o.vec3("center");
+        float radius = o.positive("radius");
+        scene.geometry.addSphere(Sphere{center, radius}, material);
+    } else if (type == "quad") {
+        Vec3 origin = o.vec3("origin"), u = o.vec3("u"), v = o.vec3("v");
+        if (!(glm::length(glm::cross(u, v)) > 0.0f))
+            throw InputError(o.pathOf("v"),
+                             "must not be zero or parallel to u (the quad has no area)");
+        scene.geometry.addQuad(origin, u, v, material);
+    } else if (type == "triangle") {
+        const Json& vs = o.require("vertices");
+        std::string at = o.pathOf("vertices");
+        if (!vs.is_array() || vs.size() != 3)
+            throw InputError(at, "expected an array of 3 points, got " + jsonTypeName(vs));
+        std::vector<Vec3> p;
+        for (size_t i = 0; i < 3; ++i) p.push_back(readVec3(vs[i], jsonPointer(at, i)));
+        if (!(glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) > 0.0f))
+            throw InputError(at, "the triangle has no area");
+        scene.geometry.addTriangles(p, {glm::uvec3(0, 1, 2)}, material);
+    } else {
+        std::string file = o.string("file");
+        MeshTransform transform;
+        if (const Json* t = o.find("transform"))
+            transform = readTransform(*t, o.pathOf("transform"));
+        std::filesystem::path full = resolveAsset(options.assetsDir, file, o.pathOf("file"));
+        TriangleMesh mesh = loadObj(full, transform, o.pathOf("file"));
+        scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
+    }
+    o.finish();
+}
+
+void readLight(const Json& j, const std::string& path, Scene& scene) {
+    JsonObject o(j, path);
+    o.choice("type", kLightTypes);
+    Vec3 position = o.vec3("position");
+    Color intensity = o.color("intensity");
+    o.finish();
+    scene.lights.push_back(std::make_unique<PointLight>(position, intensity));
+}
+
+const Json& requireArray(JsonObject& o, const std::string& key) {
+    const Json& a = o.require(key);
+    if (!a.is_array()) throw InputError(o.pathOf(key), "expected an array, got " + jsonTypeName(a));
+    return a;
+}
+
+}  // namespace
+
+std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
+    auto scene = std::make_unique<Scene>();
+    JsonObject root(doc, "");
+    scene->camera = readCamera(root.require("camera"), options);
+
+    // Materials first: shapes refer to them by name.
+    const Json& materials = root.require("materials");
+    JsonObject materialsObject(materials, "/materials");
+    for (auto it = materials.begin(); it != materials.end(); ++it) {
+        materialsObject.find(it.key());
+        scene->materials.push_back(readMaterial(it.value(), jsonPointer("/materials", it.key())));
+        scene->materialNames.push_back(it.key());
+    }
+
+    const Json& shapes = requireArray(root, "shapes");
+    for (size_t i = 0; i < shapes.size(); ++i)
+        readShape(shapes[i], jsonPointer("/shapes", i), *scene, options);
+
+    if (root.find("lights")) {
+        const Json& lights = requireArray(root, "lights");
+        for (size_t i = 0; i < lights.size(); ++i)
+            readLight(lights[i], jsonPointer("/lights", i), *scene);
+    }
+    scene->background = root.color("background", Color(0.0f));
+    if (const Json* settings = root.find("settings")) {
+        if (!settings->is_object())
+            throw InputError("/settings", "expected an object, got " + jsonTypeName(*settings));
+        scene->settings = *settings;
+    }
+    root.finish();
+
+    // Every emissive primitive is an area light.
+    for (uint32_t prim = 0; prim < scene->geometry.size(); ++prim) {
+        const Material& m = scene->material(prim);
+        if (m.isEmissive())
+            scene->lights.push_back(
+                std::make_unique<AreaLight>(scene->geometry, prim, m.emission()));
+    }
+    if (!scene->lights.empty()) scene->lightSampler = LightSampler(scene->lights);
+    return scene;
+}
+
+Json parseJson(const std::string& text) {
+    try {
+        return Json::parse(text);
+    } catch (const Json::parse_error& e) {
+        // nlohmann's text is "[json.exception.parse_error.101] parse error at line L, column C:
+        // ...".
+        std::string what = e.what();
+        size_t at = what.find("] ");
+        throw InputError("",
+                         "invalid JSON: " + (at == std::string::npos ? what : what.substr(at + 2)));
+    }
+}
+
+Json readJsonFile(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw InputError("", "cannot open " + file.string());
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseJson(text.str());
+}
+
+}  // namespace caustic

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages Caustic needs to build, test and benchmark.
+# Idempotent: packages already present are skipped by apt. Runs as root (CI) or through sudo.
+set -euo pipefail
+
+packages=(
+    # Toolchain
+    build-essential cmake ninja-build pkg-config git
+    # Renderer
+    libglm-dev nlohmann-json3-dev libtinyobjloader-dev libopenimageio-dev openimageio-tools
+    libembree-dev
+    # Tests and benchmarks
+    libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "caustic: installing ${missing[*]}" >&2
+    export DEBIAN_FRONTEND=noninteractive
+    "${sudo_cmd[@]}" apt-get update -qq
+    "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
