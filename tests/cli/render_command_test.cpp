@@ -1,0 +1,107 @@
+// The CLI as a user runs it: a real process, real files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int exitCode;
+    std::string output;  // stdout and stderr together
+};
+
+CliRun runCli(const std::string& args) {
+    std::string cmd = std::string(CAUSTIC_CLI_PATH) + " " + args + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    CliRun r{-1, ""};
+    if (!pipe) return r;
+    std::array<char, 4096> buf{};
+    while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
+    int status = pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+fs::path tempDir() {
+    fs::path dir = fs::temp_directory_path() / ("caustic-cli-test-" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+void writeFile(const fs::path& p, const std::string& text) {
+    std::ofstream(p) << text;
+}
+
+const char* kTinyScene = R"({
+  "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "width": 16, "height": 12},
+  "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+  "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "white"}],
+  "lights": [{"type": "point", "position": [0, 2, 2], "intensity": [10, 10, 10]}]
+})";
+
+TEST(CliRender, WritesPngAndExrAndASummaryLine) {
+    fs::path dir = tempDir();
+    writeFile(dir / "tiny.json", kTinyScene);
+    CliRun r = runCli("render " + (dir / "tiny.json").string() + " -o " + (dir / "a.png").string() +
+                      " -o " + (dir / "a.exr").string() + " --set spp=4 --set integrator=raycast");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir / "a.png"));
+    EXPECT_TRUE(fs::exists(dir / "a.exr"));
+    EXPECT_NE(r.output.find("raycast, 16x12, 4 spp"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("rays/s"), std::string::npos) << r.output;
+}
+
+TEST(CliRender, BadSceneIsOneLineAndExitCodeTwo) {
+    fs::path dir = tempDir();
+    std::string bad = kTinyScene;
+    bad.replace(bad.find("\"radius\": 1"), 11, "\"radius\": -1");
+    writeFile(dir / "bad.json", bad);
+    CliRun r = runCli("render " + (dir / "bad.json").string() + " -o " + (dir / "b.png").string());
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.output, "caustic: error: " + (dir / "bad.json").string() +
+                            ": /shapes/0/radius: must be > 0\n");
+    EXPECT_FALSE(fs::exists(dir / "b.png"));
+}
+
+TEST(CliRender, BadSettingNamesItsPath) {
+    fs::path dir = tempDir();
+    writeFile(dir / "tiny.json", kTinyScene);
+    CliRun r = runCli("render " + (dir / "tiny.json").string() + " -o " + (dir / "c.png").string() +
+                      " --set spp=0");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("/settings/spp: must be in [1, 1000000], got 0"), std::string::npos)
+        << r.output;
+}
+
+TEST(CliRender, MalformedJsonReportsLineAndColumn) {
+    fs::path dir = tempDir();
+    writeFile(dir / "broken.json", "{\n  \"camera\": [1, 2,\n}");
+    CliRun r =
+        runCli("render " + (dir / "broken.json").string() + " -o " + (dir / "d.png").string());
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("invalid JSON"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("line 3"), std::string::npos) << r.output;
+}
+
+TEST(CliRender, UsageErrors) {
+    EXPECT_EQ(runCli("render").exitCode, 2);
+    EXPECT_EQ(runCli("render scene.json").exitCode, 2);
+    EXPECT_EQ(runCli("render scene.json -o out.jpg").exitCode, 2);
+    EXPECT_EQ(runCli("frobnicate").exitCode, 2);
+    EXPECT_EQ(runCli("render --help").exitCode, 0);
+}
+
+TEST(CliRender, MissingSceneFile) {
+    CliRun r = runCli("render /nonexistent/scene.json -o /tmp/x.png");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("cannot open /nonexistent/scene.json"), std::string::npos) << r.output;
+}
+
+}  // namespace
