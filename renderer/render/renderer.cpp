@@ -37,7 +37,7 @@ struct PassRenderer {
         for (int y = ty; y < y1; ++y) {
             for (int x = tx; x < x1; ++x) {
                 uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
-                Color sum(0.0f);
+                DVec3 sum(0.0);  // double: many large finite samples must not overflow
                 int valid = 0;
                 for (int s = 0; s < sppPerPass; ++s) {
                     ctx.rng = Rng::forSample(settings.seed, pass, pixel, uint64_t(s));
@@ -49,10 +49,10 @@ struct PassRenderer {
                         ++dropped;
                         continue;
                     }
-                    sum += L;
+                    sum += DVec3(L);
                     ++valid;
                 }
-                out[pixel] = valid > 0 ? sum / float(valid) : Color(0.0f);
+                out[pixel] = valid > 0 ? Color(sum / double(valid)) : Color(0.0f);
             }
         }
         rays += ctx.rays;
