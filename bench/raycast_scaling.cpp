@@ -1,0 +1,267 @@
+// Recreates the seed report's Table 2: ray casting (1 sample per pixel) of cornell-spheres at
+// several square resolutions, with 1 thread and with every OpenMP thread. Runs are interleaved (1,
+// all, 1, all, ...) because the machine is shared and noisy; medians, mins and ratios are reported
+// beside the seed's published figures.
+#include <omp.h>
+#include <sched.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "accel/accelerator.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace {
+
+using caustic::RenderStats;
+
+constexpr const char* kUsage =
+    "usage: bench_raycast_scaling [--repeats N] [--accelerator NAME] [--sizes 500,1000,1500]\n"
+    "                             [--smoke]\n"
+    "  --repeats N         interleaved 1-thread / all-thread pairs per size (default 5)\n"
+    "  --accelerator NAME  default: embree, else kdtree, else bruteforce (what is built)\n"
+    "  --sizes LIST        square resolutions, comma-separated (default 500,1000,1500)\n"
+    "  --smoke             one repeat at 64x64: checks that the benchmark runs\n";
+
+// The seed report's Table 2 (shared/seed/report-zh.txt): seconds per ray-cast image.
+struct SeedRow {
+    int size;
+    double openmp, serial;
+};
+constexpr SeedRow kSeed[] = {{500, 0.0435, 0.1428}, {1000, 0.1321, 0.6136}, {1500, 0.2949, 1.2940}};
+
+std::optional<SeedRow> seedRow(int size) {
+    for (const SeedRow& r : kSeed)
+        if (r.size == size) return r;
+    return std::nullopt;
+}
+
+// The fastest accelerator this build has: embree, else kdtree, else bruteforce.
+std::string defaultAccelerator() {
+    const std::vector<std::string>& names = caustic::acceleratorNames();
+    for (const char* preferred : {"embree", "kdtree"})
+        if (std::find(names.begin(), names.end(), preferred) != names.end()) return preferred;
+    return "bruteforce";
+}
+
+struct Options {
+    int repeats = 5;
+    std::string accelerator = defaultAccelerator();
+    std::vector<int> sizes = {500, 1000, 1500};
+};
+
+int parsePositive(const std::string& text, const std::string& what) {
+    size_t used = 0;
+    int v = 0;
+    try {
+        v = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || v <= 0)
+        throw std::invalid_argument(what + ": expected a positive integer, got \"" + text + "\"");
+    return v;
+}
+
+Options parseArgs(const std::vector<std::string>& args) {
+    Options o;
+    bool smoke = false;
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&]() -> const std::string& {
+            if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
+            return args[++i];
+        };
+        if (a == "--repeats") {
+            o.repeats = parsePositive(value(), a);
+        } else if (a == "--accelerator") {
+            o.accelerator = value();
+        } else if (a == "--sizes") {
+            o.sizes.clear();
+            std::stringstream list(value());
+            for (std::string item; std::getline(list, item, ',');)
+                o.sizes.push_back(parsePositive(item, a));
+            if (o.sizes.empty()) throw std::invalid_argument("--sizes: empty list");
+        } else if (a == "--smoke") {
+            smoke = true;
+        } else {
+            throw std::invalid_argument("unknown option \"" + a + "\"");
+        }
+    }
+    if (smoke) {
+        o.repeats = 1;
+        o.sizes = {64};
+    }
+    const std::vector<std::string>& names = caustic::acceleratorNames();
+    if (std::find(names.begin(), names.end(), o.accelerator) == names.end()) {
+        std::string valid;
+        for (const std::string& n : names) valid += (valid.empty() ? "" : ", ") + n;
+        throw std::invalid_argument("unknown accelerator \"" + o.accelerator +
+                                    "\" (valid: " + valid + ")");
+    }
+    return o;
+}
+
+std::string cpuModel() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("model name", 0) != 0) continue;
+        size_t colon = line.find(':');
+        if (colon != std::string::npos)
+            return line.substr(line.find_first_not_of(" \t", colon + 1));
+    }
+    return "unknown CPU";
+}
+
+// CPUs this process may run on: what `nproc` prints when OMP_NUM_THREADS is unset.
+int onlineCpus() {
+    cpu_set_t set;
+    return sched_getaffinity(0, sizeof(set), &set) == 0 ? CPU_COUNT(&set) : 0;
+}
+
+std::string commandLine(int argc, char** argv) {
+    std::string cmd;
+    for (int i = 0; i < argc; ++i) {
+        std::string a = argv[i];
+        bool quote = a.empty() || a.find_first_of(" \t'\"$") != std::string::npos;
+        cmd += (i ? " " : "") + (quote ? "'" + a + "'" : a);
+    }
+    return cmd;
+}
+
+std::string fmt(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), format, v);
+    return buf;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double minimum(const std::vector<double>& v) {
+    return *std::min_element(v.begin(), v.end());
+}
+
+// The runs of one configuration (a size and a thread count).
+struct Runs {
+    std::vector<double> render, setup, total, raysPerSecond;
+    uint64_t rays = 0;
+    std::vector<double> firstSums;  // Film accumulators of the first run, to compare images.
+
+    void add(const caustic::RenderResult& r) {
+        if (render.empty()) firstSums = r.film->sums();
+        render.push_back(r.stats.renderSeconds);
+        setup.push_back(r.stats.setupSeconds);
+        total.push_back(r.stats.totalSeconds);
+        raysPerSecond.push_back(r.stats.raysPerSecond);
+        rays = r.stats.rays;
+    }
+};
+
+struct SizeResult {
+    int size;
+    Runs serial, parallel;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options opt;
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
+        std::cout << kUsage;
+        return 0;
+    }
+    try {
+        opt = parseArgs(args);
+    } catch (const std::exception& e) {
+        std::cerr << "bench_raycast_scaling: " << e.what() << "\n" << kUsage;
+        return 2;
+    }
+    const int allThreads = omp_get_max_threads();
+    std::cout << "Machine: nproc " << onlineCpus() << ", OpenMP threads " << allThreads << ", "
+              << cpuModel() << ". Command: `" << commandLine(argc, argv) << "`\n\n";
+
+    std::vector<SizeResult> results;
+    try {
+        nlohmann::json doc = caustic::readJsonFile(std::string(CAUSTIC_DEFAULT_SCENES_DIR) +
+                                                   "/cornell-spheres.json");
+        for (int size : opt.sizes) {
+            // Set the resolution in the scene JSON, then load.
+            doc["camera"]["width"] = size;
+            doc["camera"]["height"] = size;
+            auto scene = caustic::loadScene(doc, caustic::SceneOptions{CAUSTIC_DEFAULT_ASSETS_DIR});
+            caustic::RenderSettings settings;
+            settings.integrator = "raycast";
+            settings.spp = 1;
+            settings.accelerator = opt.accelerator;
+            settings.seed = 0;
+
+            // One untimed warm-up (page faults, OpenMP thread pool), then interleave 1 / all.
+            settings.threads = allThreads;
+            caustic::render(*scene, settings);
+            SizeResult r{size, {}, {}};
+            for (int rep = 0; rep < opt.repeats; ++rep) {
+                settings.threads = 1;
+                r.serial.add(caustic::render(*scene, settings));
+                settings.threads = allThreads;
+                r.parallel.add(caustic::render(*scene, settings));
+            }
+            results.push_back(std::move(r));
+            std::cerr << "done " << size << "x" << size << "\n";
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "bench_raycast_scaling: " << e.what() << "\n";
+        return 1;
+    }
+
+    // Table 2 beside the seed's: render phase only.
+    const std::string all = std::to_string(allThreads) + " threads";
+    std::cout << "### Ray casting, 1 spp, cornell-spheres, accelerator " << opt.accelerator
+              << ": render time (s), median of " << opt.repeats << " interleaved runs\n\n"
+              << "| size | seed serial | seed OpenMP | seed speedup | 1 thread | " << all
+              << " | speedup (medians) | 1 thread min | " << all
+              << " min | speedup (mins) | same image |\n"
+              << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+    for (const SizeResult& r : results) {
+        std::optional<SeedRow> seed = seedRow(r.size);
+        double s1 = median(r.serial.render), sN = median(r.parallel.render);
+        double m1 = minimum(r.serial.render), mN = minimum(r.parallel.render);
+        std::cout << "| " << r.size << "² | " << (seed ? fmt("%.4f", seed->serial) : "—") << " | "
+                  << (seed ? fmt("%.4f", seed->openmp) : "—") << " | "
+                  << (seed ? fmt("%.2f×", seed->serial / seed->openmp) : "—") << " | "
+                  << fmt("%.4f", s1) << " | " << fmt("%.4f", sN) << " | " << fmt("%.2f×", s1 / sN)
+                  << " | " << fmt("%.4f", m1) << " | " << fmt("%.4f", mN) << " | "
+                  << fmt("%.2f×", m1 / mN) << " | "
+                  << (r.serial.firstSums == r.parallel.firstSums ? "yes" : "**no**") << " |\n";
+    }
+
+    // Cost per configuration: setup included, and throughput.
+    std::cout
+        << "\n### Detail (medians): total includes setup (accelerator and integrator build)\n\n"
+        << "| size | threads | rays per image | render s | total s | setup s | Mrays/s |\n"
+        << "|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const SizeResult& r : results) {
+        for (const Runs* runs : {&r.serial, &r.parallel}) {
+            double render = median(runs->render), total = median(runs->total);
+            std::cout << "| " << r.size << "² | " << (runs == &r.serial ? 1 : allThreads) << " | "
+                      << runs->rays << " | " << fmt("%.4f", render) << " | " << fmt("%.4f", total)
+                      << " | " << fmt("%.5f", median(runs->setup)) << " | "
+                      << fmt("%.2f", median(runs->raysPerSecond) / 1e6) << " |\n";
+        }
+    }
+    std::cout << "\nSeed: its own framework and machine (thread count unreported); compare ratios, "
+                 "not seconds.\n";
+    return 0;
+}
