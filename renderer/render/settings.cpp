@@ -142,7 +142,8 @@ namespace {
 
 std::string formatNumber(double v) {
     Json j = v;
-    if (v == std::floor(v) && std::abs(v) < 1e15) j = static_cast<int64_t>(v);
+    // Integral values print as integers up to 2^53 (the largest seed is 2^53 - 1).
+    if (v == std::floor(v) && std::abs(v) <= 9007199254740992.0) j = static_cast<int64_t>(v);
     return j.dump();
 }
 

@@ -67,14 +67,26 @@ float readNumber(const Json& j, const std::string& path) {
 }
 
 int64_t readInteger(const Json& j, const std::string& path) {
-    if (j.is_number_integer()) return j.get<int64_t>();
+    // Integers up to 2^53 in magnitude: the ones a double (JSON's number) holds exactly.
+    constexpr int64_t kLimit = int64_t(1) << 53;
+    const char* outOfRange = "is out of the range of an integer (|x| <= 2^53)";
+    if (j.is_number_unsigned()) {
+        if (j.get<uint64_t>() > uint64_t(kLimit)) throw InputError(path, outOfRange);
+        return static_cast<int64_t>(j.get<uint64_t>());
+    }
+    if (j.is_number_integer()) {
+        int64_t v = j.get<int64_t>();
+        if (v < -kLimit || v > kLimit) throw InputError(path, outOfRange);
+        return v;
+    }
     if (j.is_number_float()) {
         double v = j.get<double>();
-        if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 9.0e15)
-            return static_cast<int64_t>(v);
+        if (!std::isfinite(v)) throw InputError(path, "must be a finite number");
+        if (v != std::floor(v)) throw InputError(path, "expected an integer, got a fraction");
+        if (std::abs(v) > static_cast<double>(kLimit)) throw InputError(path, outOfRange);
+        return static_cast<int64_t>(v);
     }
-    throw InputError(path, "expected an integer, got " +
-                               (j.is_number() ? std::string("a fraction") : jsonTypeName(j)));
+    throw InputError(path, "expected an integer, got " + jsonTypeName(j));
 }
 
 Vec3 readVec3(const Json& j, const std::string& path) {

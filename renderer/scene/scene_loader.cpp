@@ -122,7 +122,9 @@ void readShape(const Json& j, const std::string& path, Scene& scene, const Scene
         const Json& vs = o.require("vertices");
         std::string at = o.pathOf("vertices");
         if (!vs.is_array() || vs.size() != 3)
-            throw InputError(at, "expected an array of 3 points, got " + jsonTypeName(vs));
+            throw InputError(at, "expected an array of 3 points, got " +
+                                     (vs.is_array() ? "an array of " + std::to_string(vs.size())
+                                                    : jsonTypeName(vs)));
         std::vector<Vec3> p;
         for (size_t i = 0; i < 3; ++i) p.push_back(readVec3(vs[i], jsonPointer(at, i)));
         if (!(glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) > 0.0f))
@@ -202,9 +204,9 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
 Json parseJson(const std::string& text) {
     try {
         return Json::parse(text);
-    } catch (const Json::parse_error& e) {
+    } catch (const Json::exception& e) {
         // nlohmann's text is "[json.exception.parse_error.101] parse error at line L, column C:
-        // ...".
+        // ...", or "[json.exception.out_of_range.406] number overflow parsing '1e400'".
         std::string what = e.what();
         size_t at = what.find("] ");
         throw InputError("",

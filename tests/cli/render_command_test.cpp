@@ -29,11 +29,20 @@ CliRun runCli(const std::string& args) {
     return r;
 }
 
-fs::path tempDir() {
-    fs::path dir = fs::temp_directory_path() / ("caustic-cli-test-" + std::to_string(getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
+// A scratch folder per test, removed when the test ends.
+class CliRender : public ::testing::Test {
+protected:
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path tempDir() {
+        fs::create_directories(dir_);
+        return dir_;
+    }
+
+private:
+    fs::path dir_ = fs::temp_directory_path() /
+                    ("caustic-cli-test-" + std::to_string(getpid()) + "-" +
+                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
+};
 
 void writeFile(const fs::path& p, const std::string& text) {
     std::ofstream(p) << text;
@@ -46,7 +55,7 @@ const char* kTinyScene = R"({
   "lights": [{"type": "point", "position": [0, 2, 2], "intensity": [10, 10, 10]}]
 })";
 
-TEST(CliRender, WritesPngAndExrAndASummaryLine) {
+TEST_F(CliRender, WritesPngAndExrAndASummaryLine) {
     fs::path dir = tempDir();
     writeFile(dir / "tiny.json", kTinyScene);
     CliRun r = runCli("render " + (dir / "tiny.json").string() + " -o " + (dir / "a.png").string() +
@@ -58,7 +67,7 @@ TEST(CliRender, WritesPngAndExrAndASummaryLine) {
     EXPECT_NE(r.output.find("rays/s"), std::string::npos) << r.output;
 }
 
-TEST(CliRender, BadSceneIsOneLineAndExitCodeTwo) {
+TEST_F(CliRender, BadSceneIsOneLineAndExitCodeTwo) {
     fs::path dir = tempDir();
     std::string bad = kTinyScene;
     bad.replace(bad.find("\"radius\": 1"), 11, "\"radius\": -1");
@@ -70,7 +79,7 @@ TEST(CliRender, BadSceneIsOneLineAndExitCodeTwo) {
     EXPECT_FALSE(fs::exists(dir / "b.png"));
 }
 
-TEST(CliRender, BadSettingNamesItsPath) {
+TEST_F(CliRender, BadSettingNamesItsPath) {
     fs::path dir = tempDir();
     writeFile(dir / "tiny.json", kTinyScene);
     CliRun r = runCli("render " + (dir / "tiny.json").string() + " -o " + (dir / "c.png").string() +
@@ -80,7 +89,7 @@ TEST(CliRender, BadSettingNamesItsPath) {
         << r.output;
 }
 
-TEST(CliRender, MalformedJsonReportsLineAndColumn) {
+TEST_F(CliRender, MalformedJsonReportsLineAndColumn) {
     fs::path dir = tempDir();
     writeFile(dir / "broken.json", "{\n  \"camera\": [1, 2,\n}");
     CliRun r =
@@ -90,7 +99,7 @@ TEST(CliRender, MalformedJsonReportsLineAndColumn) {
     EXPECT_NE(r.output.find("line 3"), std::string::npos) << r.output;
 }
 
-TEST(CliRender, UsageErrors) {
+TEST_F(CliRender, UsageErrors) {
     EXPECT_EQ(runCli("render").exitCode, 2);
     EXPECT_EQ(runCli("render scene.json").exitCode, 2);
     EXPECT_EQ(runCli("render scene.json -o out.jpg").exitCode, 2);
@@ -98,7 +107,7 @@ TEST(CliRender, UsageErrors) {
     EXPECT_EQ(runCli("render --help").exitCode, 0);
 }
 
-TEST(CliRender, MissingSceneFile) {
+TEST_F(CliRender, MissingSceneFile) {
     CliRun r = runCli("render /nonexistent/scene.json -o /tmp/x.png");
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.output.find("cannot open /nonexistent/scene.json"), std::string::npos) << r.output;
