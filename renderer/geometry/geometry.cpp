@@ -6,16 +6,26 @@
 namespace caustic {
 namespace {
 
-// Barycentrics of a quad's two triangles (v0, v1, v2) and (v0, v2, v3) mapped to its (s, t).
+// A quad is split as Embree splits it: triangles (v0, v1, v3) and (v2, v3, v1). Their barycentrics
+// map to the quad's (s, t), where p = v0 + s (v1 - v0) + t (v3 - v0).
 Vec2 quadUv(bool second, const TriangleHit& h) {
-    return second ? Vec2(h.b1, h.b1 + h.b2) : Vec2(h.b1 + h.b2, h.b2);
+    return second ? Vec2(1.0f - h.b1, 1.0f - h.b2) : Vec2(h.b1, h.b2);
 }
 
-// Barycentrics of a quad's (s, t) within the triangle that holds it.
+// Barycentrics of a quad's (s, t) within the triangle that holds it (the second when s + t > 1).
 TriangleHit quadBarycentrics(Vec2 uv, bool& second) {
-    second = uv.y > uv.x;
-    if (second) return TriangleHit{1.0f - uv.y, uv.x, uv.y - uv.x, 0.0f};
-    return TriangleHit{1.0f - uv.x, uv.x - uv.y, uv.y, 0.0f};
+    second = uv.x + uv.y > 1.0f;
+    if (second) return TriangleHit{uv.x + uv.y - 1.0f, 1.0f - uv.x, 1.0f - uv.y, 0.0f};
+    return TriangleHit{1.0f - uv.x - uv.y, uv.x, uv.y, 0.0f};
+}
+
+// The three corners of one of a quad's triangles.
+void quadTriangle(const Quad& q, bool second, Vec3& p0, Vec3& p1, Vec3& p2) {
+    if (second) {
+        p0 = q.v[2], p1 = q.v[3], p2 = q.v[1];
+    } else {
+        p0 = q.v[0], p1 = q.v[1], p2 = q.v[3];
+    }
 }
 
 }  // namespace
@@ -85,9 +95,9 @@ std::optional<PrimHit> Geometry::intersect(uint32_t prim, const Ray& ray, float 
             return std::nullopt;
         case PrimKind::Quad: {
             const Quad& q = quads_[i];
-            if (auto h = intersectTriangle(ray, tMax, q.v[0], q.v[1], q.v[2]))
+            if (auto h = intersectTriangle(ray, tMax, q.v[0], q.v[1], q.v[3]))
                 return PrimHit{h->t, quadUv(false, *h)};
-            if (auto h = intersectTriangle(ray, tMax, q.v[0], q.v[2], q.v[3]))
+            if (auto h = intersectTriangle(ray, tMax, q.v[2], q.v[3], q.v[1]))
                 return PrimHit{h->t, quadUv(true, *h)};
             return std::nullopt;
         }
@@ -111,7 +121,7 @@ Hit Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
             break;
         case PrimKind::Quad: {
             const Quad& q = quads_[i];
-            hit.n = triangleNormal(q.v[0], q.v[1], q.v[2]);
+            hit.n = triangleNormal(q.v[0], q.v[1], q.v[3]);
             break;
         }
         case PrimKind::Triangle: {
@@ -136,11 +146,11 @@ SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {
             spheres_[i].hitPoint(ray, hit.t, si.p, si.pError);
             break;
         case PrimKind::Quad: {
-            const Quad& q = quads_[i];
             bool second = false;
             TriangleHit b = quadBarycentrics(hit.uv, second);
-            triangleHitPoint(b, q.v[0], second ? q.v[2] : q.v[1], second ? q.v[3] : q.v[2], si.p,
-                             si.pError);
+            Vec3 p0, p1, p2;
+            quadTriangle(quads_[i], second, p0, p1, p2);
+            triangleHitPoint(b, p0, p1, p2, si.p, si.pError);
             break;
         }
         case PrimKind::Triangle: {
@@ -179,12 +189,12 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
         case PrimKind::Sphere:
             return spheres_[i].sample(u);
         case PrimKind::Quad: {
-            const Quad& q = quads_[i];
             bool second = false;
             TriangleHit b = quadBarycentrics(u, second);
-            triangleHitPoint(b, q.v[0], second ? q.v[2] : q.v[1], second ? q.v[3] : q.v[2], s.p,
-                             s.pError);
-            s.n = triangleNormal(q.v[0], q.v[1], q.v[2]);
+            Vec3 p0, p1, p2;
+            quadTriangle(quads_[i], second, p0, p1, p2);
+            triangleHitPoint(b, p0, p1, p2, s.p, s.pError);
+            s.n = triangleNormal(quads_[i].v[0], quads_[i].v[1], quads_[i].v[3]);
             break;
         }
         case PrimKind::Triangle: {
