@@ -1,0 +1,201 @@
+#include "accel/embree.h"
+
+#include <stdexcept>
+
+namespace caustic {
+namespace {
+
+void errorCallback(void* user, RTCError code, const char* message) {
+    auto* error = static_cast<std::string*>(user);
+    *error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " +
+             (message ? message : "(no message)");
+}
+
+RTCRay toRtcRay(const Ray& ray, float tMax) {
+    RTCRay r{};
+    r.org_x = ray.o.x, r.org_y = ray.o.y, r.org_z = ray.o.z;
+    r.dir_x = ray.d.x, r.dir_y = ray.d.y, r.dir_z = ray.d.z;
+    r.tnear = 0.0f;
+    r.tfar = tMax;
+    r.mask = ~0u;
+    r.flags = 0;
+    return r;
+}
+
+// User geometry callbacks for spheres: Embree passes N rays with a validity mask.
+void sphereBounds(const RTCBoundsFunctionArguments* args) {
+    auto* self = static_cast<const EmbreeAccel*>(args->geometryUserPtr);
+    Bounds3 b = self->geometry().bounds(self->spherePrim(args->primID));
+    *args->bounds_o = RTCBounds{b.lo.x, b.lo.y, b.lo.z, 0.0f, b.hi.x, b.hi.y, b.hi.z, 0.0f};
+}
+
+Ray rayAt(RTCRayN* rays, unsigned n, unsigned i) {
+    return Ray{
+        Vec3(RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i), RTCRayN_org_z(rays, n, i)),
+        Vec3(RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i), RTCRayN_dir_z(rays, n, i))};
+}
+
+void sphereIntersect(const RTCIntersectFunctionNArguments* args) {
+    auto* self = static_cast<const EmbreeAccel*>(args->geometryUserPtr);
+    const Sphere& sphere = self->geometry().spheres()[args->primID];
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        Ray ray = rayAt(rays, args->N, i);
+        float& tfar = RTCRayN_tfar(rays, args->N, i);
+        auto h = sphere.intersect(ray, tfar);
+        if (!h || h->first < RTCRayN_tnear(rays, args->N, i)) continue;
+        tfar = h->first;
+        Vec3 n = sphere.normal(ray.o + h->first * ray.d);
+        RTCHitN_Ng_x(hits, args->N, i) = n.x;
+        RTCHitN_Ng_y(hits, args->N, i) = n.y;
+        RTCHitN_Ng_z(hits, args->N, i) = n.z;
+        RTCHitN_u(hits, args->N, i) = h->second.x;
+        RTCHitN_v(hits, args->N, i) = h->second.y;
+        RTCHitN_primID(hits, args->N, i) = args->primID;
+        RTCHitN_geomID(hits, args->N, i) = args->geomID;
+        RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
+    }
+}
+
+void sphereOccluded(const RTCOccludedFunctionNArguments* args) {
+    auto* self = static_cast<const EmbreeAccel*>(args->geometryUserPtr);
+    const Sphere& sphere = self->geometry().spheres()[args->primID];
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        float& tfar = RTCRayN_tfar(args->ray, args->N, i);
+        auto h = sphere.intersect(rayAt(args->ray, args->N, i), tfar);
+        if (h && h->first >= RTCRayN_tnear(args->ray, args->N, i)) tfar = -kInfinity;
+    }
+}
+
+}  // namespace
+
+EmbreeAccel::EmbreeAccel(const Geometry& geometry) : geometry_(geometry) {
+    device_.reset(rtcNewDevice(nullptr));
+    if (!device_) throw std::runtime_error("Embree: cannot create a device");
+    rtcSetDeviceErrorFunction(device_.get(), errorCallback, &error_);
+    scene_.reset(rtcNewScene(device_.get()));
+    rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
+    addTriangles();
+    addQuads();
+    addSpheres();
+    rtcCommitScene(scene_.get());
+    throwIfError("building the scene");
+    RTCBounds b;
+    rtcGetSceneBounds(scene_.get(), &b);
+    if (geometry.size() > 0)
+        bounds_ =
+            Bounds3{Vec3(b.lower_x, b.lower_y, b.lower_z), Vec3(b.upper_x, b.upper_y, b.upper_z)};
+}
+
+void EmbreeAccel::throwIfError(const char* what) const {
+    if (!error_.empty()) throw std::runtime_error(error_ + " (" + what + ")");
+}
+
+void EmbreeAccel::addTriangles() {
+    const auto& positions = geometry_.positions();
+    const auto& triangles = geometry_.triangles();
+    if (triangles.empty()) return;
+    RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
+    for (size_t i = 0; i < positions.size(); ++i)
+        for (int c = 0; c < 3; ++c) v[3 * i + size_t(c)] = positions[i][c];
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles.size()));
+    for (size_t i = 0; i < triangles.size(); ++i)
+        for (int c = 0; c < 3; ++c) idx[3 * i + size_t(c)] = triangles[i][c];
+    bufferBytes_ += positions.size() * 12 + triangles.size() * 12;
+    std::vector<uint32_t> prims(triangles.size());
+    for (uint32_t prim = 0; prim < geometry_.size(); ++prim)
+        if (geometry_.kind(prim) == PrimKind::Triangle) prims[geometry_.localIndex(prim)] = prim;
+    rtcCommitGeometry(g);
+    unsigned id = rtcAttachGeometry(scene_.get(), g);
+    rtcReleaseGeometry(g);
+    primsByGeometry_.resize(id + 1);
+    primsByGeometry_[id] = std::move(prims);
+    throwIfError("adding triangles");
+}
+
+void EmbreeAccel::addQuads() {
+    const auto& quads = geometry_.quads();
+    if (quads.empty()) return;
+    RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_QUAD);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4 * quads.size()));
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), quads.size()));
+    for (size_t q = 0; q < quads.size(); ++q) {
+        for (int k = 0; k < 4; ++k) {
+            for (int c = 0; c < 3; ++c) v[12 * q + 3 * size_t(k) + size_t(c)] = quads[q].v[k][c];
+            idx[4 * q + size_t(k)] = unsigned(4 * q + size_t(k));
+        }
+    }
+    bufferBytes_ += quads.size() * (48 + 16);
+    std::vector<uint32_t> prims(quads.size());
+    for (uint32_t prim = 0; prim < geometry_.size(); ++prim)
+        if (geometry_.kind(prim) == PrimKind::Quad) prims[geometry_.localIndex(prim)] = prim;
+    rtcCommitGeometry(g);
+    unsigned id = rtcAttachGeometry(scene_.get(), g);
+    rtcReleaseGeometry(g);
+    primsByGeometry_.resize(id + 1);
+    primsByGeometry_[id] = std::move(prims);
+    throwIfError("adding quads");
+}
+
+void EmbreeAccel::addSpheres() {
+    const auto& spheres = geometry_.spheres();
+    if (spheres.empty()) return;
+    spherePrims_.resize(spheres.size());
+    for (uint32_t prim = 0; prim < geometry_.size(); ++prim)
+        if (geometry_.kind(prim) == PrimKind::Sphere)
+            spherePrims_[geometry_.localIndex(prim)] = prim;
+    RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, unsigned(spheres.size()));
+    rtcSetGeometryUserData(g, const_cast<EmbreeAccel*>(this));
+    rtcSetGeometryBoundsFunction(g, sphereBounds, const_cast<EmbreeAccel*>(this));
+    rtcSetGeometryIntersectFunction(g, sphereIntersect);
+    rtcSetGeometryOccludedFunction(g, sphereOccluded);
+    rtcCommitGeometry(g);
+    unsigned id = rtcAttachGeometry(scene_.get(), g);
+    rtcReleaseGeometry(g);
+    primsByGeometry_.resize(id + 1);
+    primsByGeometry_[id] = spherePrims_;
+    throwIfError("adding spheres");
+}
+
+uint32_t EmbreeAccel::primOf(unsigned geomID, unsigned primID) const {
+    return primsByGeometry_[geomID][primID];
+}
+
+std::optional<Hit> EmbreeAccel::intersect(const Ray& ray, float tMax) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh{};
+    rh.ray = toRtcRay(ray, tMax);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_.get(), &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    uint32_t prim = primOf(rh.hit.geomID, rh.hit.primID);
+    // The normal comes from the scene's own data, as with every accelerator.
+    return geometry_.finish(prim, ray, PrimHit{rh.ray.tfar, Vec2(rh.hit.u, rh.hit.v)});
+}
+
+bool EmbreeAccel::occluded(const Ray& ray, float tMax) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r = toRtcRay(ray, tMax);
+    rtcOccluded1(scene_.get(), &context, &r);
+    return r.tfar < 0.0f;
+}
+
+size_t EmbreeAccel::memoryBytes() const {
+    // Embree does not report its BVH's size; count the buffers it holds for us.
+    return bufferBytes_;
+}
+
+}  // namespace caustic

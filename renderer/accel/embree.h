@@ -1,0 +1,57 @@
+// Intel Embree 3 behind the Accelerator interface: triangles and quads native, spheres as user
+// geometry that calls Sphere::intersect, so that every accelerator returns the same hit record.
+// Scene built with RTC_SCENE_FLAG_ROBUST (watertight, no culling of rays along edges).
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "accel/accelerator.h"
+
+namespace caustic {
+
+class EmbreeAccel final : public Accelerator {
+public:
+    /// Builds a device and a scene over `geometry` (which must outlive it). Throws
+    /// std::runtime_error with Embree's message if Embree reports an error.
+    explicit EmbreeAccel(const Geometry& geometry);
+
+    std::optional<Hit> intersect(const Ray& ray, float tMax) const override;
+    bool occluded(const Ray& ray, float tMax) const override;
+    Bounds3 bounds() const override { return bounds_; }
+    size_t memoryBytes() const override;
+
+    /// Called by the sphere user geometry (Embree's C callbacks).
+    const Geometry& geometry() const { return geometry_; }
+    uint32_t spherePrim(uint32_t local) const { return spherePrims_[local]; }
+
+private:
+    struct DeviceDeleter {
+        void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
+    };
+    struct SceneDeleter {
+        void operator()(RTCScene s) const { rtcReleaseScene(s); }
+    };
+
+    void addTriangles();
+    void addQuads();
+    void addSpheres();
+    void throwIfError(const char* what) const;
+    uint32_t primOf(unsigned geomID, unsigned primID) const;
+
+    const Geometry& geometry_;
+    // Released in reverse order: the scene before its device.
+    std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
+    std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;
+    std::string error_;  // last message from the device's error callback
+    // Embree geometry ID -> the scene primitive index of each of its primitives.
+    std::vector<std::vector<uint32_t>> primsByGeometry_;
+    std::vector<uint32_t> spherePrims_;
+    Bounds3 bounds_;
+    size_t bufferBytes_ = 0;
+};
+
+}  // namespace caustic

@@ -1,0 +1,64 @@
+#include "accel/kdtree/clip.h"
+
+namespace caustic {
+namespace {
+
+// Intersection of two boxes; empty when they do not overlap.
+Bounds3 overlap(const Bounds3& a, const Bounds3& b) {
+    return Bounds3{glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)};
+}
+
+// A convex polygon, clipped in place (Sutherland & Hodgman 1974): a triangle or quad clipped by six
+// planes has at most 4 + 6 vertices.
+struct Polygon {
+    Vec3 v[12];
+    int n = 0;
+
+    // Keeps the part with sign * (p[axis] - plane) >= 0.
+    void clip(int axis, float plane, float sign) {
+        Vec3 out[12];
+        int m = 0;
+        for (int i = 0; i < n; ++i) {
+            const Vec3& a = v[i];
+            const Vec3& b = v[(i + 1) % n];
+            float da = sign * (a[axis] - plane), db = sign * (b[axis] - plane);
+            if (da >= 0.0f) out[m++] = a;
+            if ((da < 0.0f) != (db < 0.0f)) {
+                Vec3 p = a + (b - a) * (da / (da - db));
+                p[axis] = plane;  // exactly on the plane, whatever the rounding
+                out[m++] = p;
+            }
+        }
+        n = m;
+        for (int i = 0; i < n; ++i) v[i] = out[i];
+    }
+};
+
+}  // namespace
+
+Bounds3 clipPrimitive(const Geometry& geometry, uint32_t prim, const Bounds3& box) {
+    PrimKind kind = geometry.kind(prim);
+    if (kind == PrimKind::Sphere) return overlap(geometry.bounds(prim), box);
+
+    Polygon poly;
+    uint32_t i = geometry.localIndex(prim);
+    if (kind == PrimKind::Quad) {
+        for (const Vec3& v : geometry.quads()[i].v) poly.v[poly.n++] = v;
+    } else {
+        const glm::uvec3& t = geometry.triangles()[i];
+        for (int k = 0; k < 3; ++k) poly.v[poly.n++] = geometry.positions()[t[k]];
+    }
+    for (int axis = 0; axis < 3 && poly.n > 0; ++axis) {
+        poly.clip(axis, box.lo[axis], 1.0f);
+        if (poly.n > 0) poly.clip(axis, box.hi[axis], -1.0f);
+    }
+    Bounds3 b;
+    for (int k = 0; k < poly.n; ++k) b.extend(poly.v[k]);
+    if (b.empty()) return b;
+    // Grow by the rounding error of the interpolation (a few ulps of the coordinates), then keep
+    // it inside the box.
+    Vec3 slack = gamma(4) * glm::max(glm::abs(b.lo), glm::abs(b.hi));
+    return overlap(Bounds3{b.lo - slack, b.hi + slack}, box);
+}
+
+}  // namespace caustic

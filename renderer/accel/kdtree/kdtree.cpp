@@ -1,0 +1,114 @@
+// Front-to-back traversal (pbrt-v3 4.4.3), made robust for the cases of section 4.4 of Havran 2000:
+// direction components of zero, rays lying in a split plane, and hits exactly on a plane.
+#include "accel/kdtree/kdtree.h"
+
+namespace caustic {
+namespace {
+
+// Relative slack on ray parameters compared across nodes: a rounding error in a plane crossing
+// must never skip a node the ray enters (pbrt-v3 3.9.2 uses 1 + 2 gamma(3) for box slabs).
+constexpr float kSlack = 2.0f * gamma(3);
+
+// Clips [t0, t1] to the box; false when the ray misses it.
+bool clipToBox(const Bounds3& box, const Ray& ray, const Vec3& invDir, float& t0, float& t1) {
+    for (int a = 0; a < 3; ++a) {
+        float tNear = (box.lo[a] - ray.o[a]) * invDir[a];
+        float tFar = (box.hi[a] - ray.o[a]) * invDir[a];
+        if (tNear > tFar) std::swap(tNear, tFar);
+        tFar *= 1.0f + kSlack;
+        // NaN (a zero direction component with the origin on a slab) leaves the range alone.
+        if (tNear > t0) t0 = tNear;
+        if (tFar < t1) t1 = tFar;
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+template <bool AnyHit>
+bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimHit& best) const {
+    if (nodes_.empty()) return false;
+    Vec3 invDir = 1.0f / ray.d;
+    float tMin = 0.0f, tEnd = tMax;
+    if (!clipToBox(bounds_, ray, invDir, tMin, tEnd)) return false;
+
+    struct Todo {
+        uint32_t node;
+        float tMin, tMax;
+    };
+    Todo todo[kMaxDepth + 4];
+    int todoCount = 0;
+    float closest = tMax;
+    bool found = false;
+    uint32_t index = 0;
+    while (true) {
+        // Everything left lies beyond the closest hit.
+        if (closest < tMin * (1.0f - kSlack)) break;
+        const Node& node = nodes_[index];
+        if (!node.isLeaf()) {
+            int axis = node.axis();
+            float o = ray.o[axis], d = ray.d[axis], split = node.split;
+            uint32_t below = index + 1, above = node.aboveChild();
+            if (d == 0.0f) {
+                // Parallel to the plane: the side the ray runs on; both when it runs in it.
+                if (o < split) {
+                    index = below;
+                } else if (o > split) {
+                    index = above;
+                } else {
+                    todo[todoCount++] = Todo{above, tMin, tEnd};
+                    index = below;
+                }
+                continue;
+            }
+            float tPlane = (split - o) * invDir[axis];
+            bool belowFirst = o < split || (o == split && d <= 0.0f);
+            uint32_t first = belowFirst ? below : above, second = belowFirst ? above : below;
+            if (tPlane > tEnd * (1.0f + kSlack) || tPlane <= 0.0f) {
+                index = first;
+            } else if (tPlane < tMin * (1.0f - kSlack)) {
+                index = second;
+            } else {
+                todo[todoCount++] = Todo{second, tPlane, tEnd};
+                index = first;
+                tEnd = tPlane;
+            }
+            continue;
+        }
+
+        // Test the leaf's primitives against the closest hit so far.
+        uint32_t count = node.primCount();
+        const uint32_t* prims = count == 1 ? &node.onePrim : &primIndices_[node.primOffset];
+        for (uint32_t i = 0; i < count; ++i) {
+            if (auto h = geometry_.intersect(prims[i], ray, closest)) {
+                if constexpr (AnyHit) return true;
+                closest = h->t;
+                best = *h;
+                bestPrim = prims[i];
+                found = true;
+            }
+        }
+        if (todoCount == 0) break;
+        --todoCount;
+        index = todo[todoCount].node;
+        tMin = todo[todoCount].tMin;
+        tEnd = todo[todoCount].tMax;
+    }
+    return found;
+}
+
+std::optional<Hit> KdTreeAccel::intersect(const Ray& ray, float tMax) const {
+    uint32_t prim = 0;
+    PrimHit hit{};
+    if (!traverse<false>(ray, tMax, prim, hit)) return std::nullopt;
+    return geometry_.finish(prim, ray, hit);
+}
+
+bool KdTreeAccel::occluded(const Ray& ray, float tMax) const {
+    uint32_t prim = 0;
+    PrimHit hit{};
+    return traverse<true>(ray, tMax, prim, hit);
+}
+
+}  // namespace caustic

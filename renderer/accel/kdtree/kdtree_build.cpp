@@ -1,0 +1,274 @@
+// The SAH build. Large nodes choose their split from 32 bins of primitive bounds per axis (O(n)
+// per node, so O(N log N) in all; Popov et al. 2006, "Experiences with Streaming Construction of
+// SAH KD-Trees"); nodes of up to kExactLimit references sweep every primitive boundary exactly
+// (pbrt-v3 4.4.2). The top of the tree is built in parallel with OpenMP tasks.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "accel/kdtree/clip.h"
+#include "accel/kdtree/kdtree.h"
+#include "core/check.h"
+
+namespace caustic {
+namespace {
+
+constexpr int kBins = 32;
+constexpr size_t kExactLimit = 256;
+constexpr size_t kParallelLimit = 4096;
+
+struct Ref {
+    Bounds3 b;
+    uint32_t prim;
+};
+
+struct Split {
+    int axis = -1;
+    float pos = 0.0f;
+    float cost = kInfinity;
+};
+
+struct BuildNode {
+    int axis = 3;  // 3: leaf
+    float split = 0.0f;
+    std::unique_ptr<BuildNode> below, above;
+    std::vector<uint32_t> prims;
+};
+
+Bounds3 childBox(const Bounds3& box, int axis, float pos, bool above) {
+    Bounds3 b = box;
+    (above ? b.lo : b.hi)[axis] = pos;
+    return b;
+}
+
+}  // namespace
+
+class KdTreeBuilder {
+public:
+    KdTreeBuilder(KdTreeAccel& tree, const KdTreeOptions& options)
+        : tree_(tree), geometry_(tree.geometry_), options_(options) {}
+
+    void build() {
+        uint32_t n = geometry_.size();
+        std::vector<Ref> refs(n);
+        Bounds3 box;
+        for (uint32_t p = 0; p < n; ++p) {
+            refs[p] = Ref{geometry_.bounds(p), p};
+            box.extend(refs[p].b);
+        }
+        tree_.bounds_ = box;
+        int maxDepth = options_.maxDepth > 0
+                           ? options_.maxDepth
+                           : int(std::lround(8 + 1.3 * std::log2(std::max<uint32_t>(n, 1))));
+        maxDepth = std::min(maxDepth, KdTreeAccel::kMaxDepth);
+
+        BuildNode root;
+#pragma omp parallel
+#pragma omp single nowait
+        buildNode(root, std::move(refs), box, maxDepth, 0);
+
+        rootArea_ = box.surfaceArea();
+        flatten(root, box, 0);
+    }
+
+private:
+    float cost(const Bounds3& box, int axis, float pos, size_t nBelow, size_t nAbove) const {
+        Vec3 d = box.diagonal();
+        int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
+        float cap = d[o1] * d[o2], ring = d[o1] + d[o2];
+        float belowArea = 2.0f * (cap + (pos - box.lo[axis]) * ring);
+        float aboveArea = 2.0f * (cap + (box.hi[axis] - pos) * ring);
+        float invArea = 1.0f / box.surfaceArea();
+        float bonus = (nBelow == 0 || nAbove == 0) ? options_.emptyBonus : 0.0f;
+        return options_.traversalCost +
+               options_.intersectCost * (1.0f - bonus) *
+                   (belowArea * invArea * float(nBelow) + aboveArea * invArea * float(nAbove));
+    }
+
+    Split findBinned(const std::vector<Ref>& refs, const Bounds3& box) const {
+        Split best;
+        for (int axis = 0; axis < 3; ++axis) {
+            float lo = box.lo[axis], extent = box.hi[axis] - lo;
+            if (!(extent > 0.0f)) continue;
+            float scale = float(kBins) / extent;
+            size_t starts[kBins] = {}, ends[kBins] = {};
+            for (const Ref& r : refs) {
+                ++starts[std::clamp(int((r.b.lo[axis] - lo) * scale), 0, kBins - 1)];
+                ++ends[std::clamp(int((r.b.hi[axis] - lo) * scale), 0, kBins - 1)];
+            }
+            size_t nBelow = 0, nAbove = refs.size();
+            for (int i = 1; i < kBins; ++i) {
+                nBelow += starts[i - 1];
+                nAbove -= ends[i - 1];
+                float pos = lo + extent * float(i) / float(kBins);
+                float c = cost(box, axis, pos, nBelow, nAbove);
+                if (c < best.cost) best = Split{axis, pos, c};
+            }
+        }
+        return best;
+    }
+
+    Split findExact(const std::vector<Ref>& refs, const Bounds3& box) const {
+        struct Event {
+            float pos;
+            int type;  // 0: start, 1: end; starts sort first at equal positions (pbrt-v3)
+            bool operator<(const Event& e) const {
+                return pos < e.pos || (pos == e.pos && type < e.type);
+            }
+        };
+        Split best;
+        std::vector<Event> events(2 * refs.size());
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!(box.hi[axis] > box.lo[axis])) continue;
+            for (size_t i = 0; i < refs.size(); ++i) {
+                events[2 * i] = Event{refs[i].b.lo[axis], 0};
+                events[2 * i + 1] = Event{refs[i].b.hi[axis], 1};
+            }
+            std::sort(events.begin(), events.end());
+            size_t nBelow = 0, nAbove = refs.size();
+            for (const Event& e : events) {
+                if (e.type == 1) --nAbove;
+                if (e.pos > box.lo[axis] && e.pos < box.hi[axis]) {
+                    float c = cost(box, axis, e.pos, nBelow, nAbove);
+                    if (c < best.cost) best = Split{axis, e.pos, c};
+                }
+                if (e.type == 0) ++nBelow;
+            }
+        }
+        return best;
+    }
+
+    // Sends each reference to the side(s) of the plane it overlaps, clipped to that side's box.
+    void partition(std::vector<Ref>& refs, const Bounds3& box, int axis, float pos,
+                   std::vector<Ref>& below, std::vector<Ref>& above) const {
+        Bounds3 belowBox = childBox(box, axis, pos, false),
+                aboveBox = childBox(box, axis, pos, true);
+        for (const Ref& r : refs) {
+            float lo = r.b.lo[axis], hi = r.b.hi[axis];
+            if (lo == pos && hi == pos) {
+                // Lying in the plane: both sides, so rays in or through the plane find it.
+                below.push_back(r);
+                above.push_back(r);
+            } else if (hi <= pos) {
+                below.push_back(r);
+            } else if (lo >= pos) {
+                above.push_back(r);
+            } else {
+                for (bool isAbove : {false, true}) {
+                    const Bounds3& child = isAbove ? aboveBox : belowBox;
+                    Bounds3 clipped =
+                        options_.clipPrimitives
+                            ? clipPrimitive(geometry_, r.prim, child)
+                            : Bounds3{glm::max(r.b.lo, child.lo), glm::min(r.b.hi, child.hi)};
+                    clipped = Bounds3{glm::max(clipped.lo, r.b.lo), glm::min(clipped.hi, r.b.hi)};
+                    if (!clipped.empty()) (isAbove ? above : below).push_back(Ref{clipped, r.prim});
+                }
+            }
+        }
+        refs.clear();
+        refs.shrink_to_fit();
+    }
+
+    void makeLeaf(BuildNode& node, const std::vector<Ref>& refs) const {
+        node.axis = 3;
+        node.prims.reserve(refs.size());
+        for (const Ref& r : refs) node.prims.push_back(r.prim);
+    }
+
+    void buildNode(BuildNode& node, std::vector<Ref> refs, const Bounds3& box, int depthLeft,
+                   int badRefines) {
+        size_t n = refs.size();
+        if (n <= 1 || depthLeft == 0 || !(box.surfaceArea() > 0.0f)) return makeLeaf(node, refs);
+
+        // Choose the split; stop when splitting does not pay (pbrt-v3's rule, allowing a few bad
+        // refinements since a worse split can enable better ones below).
+        Split split = n > kExactLimit ? findBinned(refs, box) : findExact(refs, box);
+        float leafCost = options_.intersectCost * float(n);
+        if (split.cost > leafCost) ++badRefines;
+        if (split.axis < 0 || (split.cost > 4.0f * leafCost && n < 16) || badRefines == 3)
+            return makeLeaf(node, refs);
+
+        std::vector<Ref> below, above;
+        partition(refs, box, split.axis, split.pos, below, above);
+        // A split that moved nothing is a loop: stop.
+        if (below.size() == n && above.size() == n) {
+            makeLeaf(node, below);
+            return;
+        }
+        node.axis = split.axis;
+        node.split = split.pos;
+        node.below = std::make_unique<BuildNode>();
+        node.above = std::make_unique<BuildNode>();
+        Bounds3 belowBox = childBox(box, split.axis, split.pos, false);
+        Bounds3 aboveBox = childBox(box, split.axis, split.pos, true);
+        if (n >= kParallelLimit) {
+#pragma omp task default(shared) firstprivate(belowBox, depthLeft, badRefines)
+            buildNode(*node.below, std::move(below), belowBox, depthLeft - 1, badRefines);
+            buildNode(*node.above, std::move(above), aboveBox, depthLeft - 1, badRefines);
+#pragma omp taskwait
+        } else {
+            buildNode(*node.below, std::move(below), belowBox, depthLeft - 1, badRefines);
+            buildNode(*node.above, std::move(above), aboveBox, depthLeft - 1, badRefines);
+        }
+    }
+
+    // Writes the tree depth-first: a node's below child follows it, its above child's index is
+    // stored in the node. Frees the build nodes on the way.
+    void flatten(BuildNode& node, const Bounds3& box, uint32_t depth) {
+        KdTreeStats& stats = tree_.stats_;
+        stats.maxDepth = std::max(stats.maxDepth, depth);
+        auto index = uint32_t(tree_.nodes_.size());
+        tree_.nodes_.emplace_back();
+        float areaRatio = rootArea_ > 0.0f ? box.surfaceArea() / rootArea_ : 0.0f;
+        if (node.axis == 3) {
+            auto count = uint32_t(node.prims.size());
+            CAUSTIC_CHECK_LT(count, 1u << 30);
+            KdTreeAccel::Node& leaf = tree_.nodes_[index];
+            leaf.bits = 3u | (count << 2);
+            if (count == 1) {
+                leaf.onePrim = node.prims[0];
+            } else {
+                leaf.primOffset = uint32_t(tree_.primIndices_.size());
+                tree_.primIndices_.insert(tree_.primIndices_.end(), node.prims.begin(),
+                                          node.prims.end());
+            }
+            ++stats.leaves;
+            if (count == 0) ++stats.emptyLeaves;
+            stats.references += count;
+            stats.sahCost +=
+                options_.intersectCost * float(count) * areaRatio / options_.traversalCost;
+            return;
+        }
+        ++stats.interiorNodes;
+        stats.sahCost += areaRatio;
+        int axis = node.axis;
+        float split = node.split;
+        flatten(*node.below, childBox(box, axis, split, false), depth + 1);
+        node.below.reset();
+        auto above = uint32_t(tree_.nodes_.size());
+        CAUSTIC_CHECK_LT(above, 1u << 30);
+        tree_.nodes_[index].split = split;
+        tree_.nodes_[index].bits = uint32_t(axis) | (above << 2);
+        flatten(*node.above, childBox(box, axis, split, true), depth + 1);
+        node.above.reset();
+    }
+
+    KdTreeAccel& tree_;
+    const Geometry& geometry_;
+    KdTreeOptions options_;
+    float rootArea_ = 0.0f;
+};
+
+KdTreeAccel::KdTreeAccel(const Geometry& geometry, const KdTreeOptions& options)
+    : geometry_(geometry) {
+    static_assert(sizeof(Node) == 8);
+    KdTreeBuilder(*this, options).build();
+}
+
+size_t KdTreeAccel::memoryBytes() const {
+    return nodes_.capacity() * sizeof(Node) + primIndices_.capacity() * sizeof(uint32_t);
+}
+
+}  // namespace caustic
