@@ -66,9 +66,15 @@ std::optional<TriangleHit> intersectTriangle(const Ray& ray, float tMax, const V
     float invDet = 1.0f / det;
     TriangleHit hit{e0 * invDet, e1 * invDet, e2 * invDet, tScaled * invDet};
 
-    // Reject hits whose t is not conservatively positive (pbrt-v4, section 6.8.7).
+    // Reject hits whose t is not conservatively positive. t is a convex combination of the
+    // vertices' depths z_i (the barycentrics are non-negative here), so when every z_i exceeds its
+    // rounding error, t > 0 holds. Only otherwise use pbrt-v4's bound (section 6.8.7), which
+    // multiplies the edge functions' error by the depth and, for distant grazing rays, rejects hits
+    // far in front of the origin.
     float maxZt = maxComponent(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
     float deltaZ = gamma(3) * maxZt;
+    float minZt = std::min(p0t.z, std::min(p1t.z, p2t.z));
+    if (minZt > deltaZ) return hit;
     float maxXt = maxComponent(glm::abs(Vec3(p0t.x, p1t.x, p2t.x)));
     float maxYt = maxComponent(glm::abs(Vec3(p0t.y, p1t.y, p2t.y)));
     float deltaX = gamma(5) * (maxXt + maxZt);

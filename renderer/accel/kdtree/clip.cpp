@@ -36,9 +36,24 @@ struct Polygon {
 
 }  // namespace
 
+Bounds3 fuzzyBounds(const Geometry& geometry, uint32_t prim) {
+    Bounds3 b = geometry.bounds(prim);
+    Vec3 slack(magnitudeSlack(b));
+    return Bounds3{b.lo - slack, b.hi + slack};
+}
+
+float magnitudeSlack(const Bounds3& b) {
+    return 4.0f * gamma(3) * maxComponent(glm::max(glm::abs(b.lo), glm::abs(b.hi)));
+}
+
 Bounds3 clipPrimitive(const Geometry& geometry, uint32_t prim, const Bounds3& box) {
     PrimKind kind = geometry.kind(prim);
-    if (kind == PrimKind::Sphere) return overlap(geometry.bounds(prim), box);
+    if (kind == PrimKind::Sphere) return overlap(fuzzyBounds(geometry, prim), box);
+    // The float intersection test sees a primitive only to a few ulps of its own coordinates: clip
+    // against the box grown by that much, and grow the result by it, so that no reference is
+    // dropped from a node where the test would hit it.
+    float fuzz = magnitudeSlack(geometry.bounds(prim));
+    Bounds3 grown{box.lo - Vec3(fuzz), box.hi + Vec3(fuzz)};
 
     Polygon poly;
     uint32_t i = geometry.localIndex(prim);
@@ -49,15 +64,15 @@ Bounds3 clipPrimitive(const Geometry& geometry, uint32_t prim, const Bounds3& bo
         for (int k = 0; k < 3; ++k) poly.v[poly.n++] = geometry.positions()[t[k]];
     }
     for (int axis = 0; axis < 3 && poly.n > 0; ++axis) {
-        poly.clip(axis, box.lo[axis], 1.0f);
-        if (poly.n > 0) poly.clip(axis, box.hi[axis], -1.0f);
+        poly.clip(axis, grown.lo[axis], 1.0f);
+        if (poly.n > 0) poly.clip(axis, grown.hi[axis], -1.0f);
     }
     Bounds3 b;
     for (int k = 0; k < poly.n; ++k) b.extend(poly.v[k]);
     if (b.empty()) return b;
     // Grow by the rounding error of the interpolation (a few ulps of the coordinates), then keep
     // it inside the box.
-    Vec3 slack = gamma(4) * glm::max(glm::abs(b.lo), glm::abs(b.hi));
+    Vec3 slack = gamma(4) * glm::max(glm::abs(b.lo), glm::abs(b.hi)) + Vec3(fuzz);
     return overlap(Bounds3{b.lo - slack, b.hi + slack}, box);
 }
 

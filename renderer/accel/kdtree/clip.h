@@ -9,6 +9,12 @@
 
 namespace caustic {
 
+/// Slack for a primitive with bounds b: a few ulps of its largest coordinate, how far the float
+/// intersection test may hit outside its exact surface.
+float magnitudeSlack(const Bounds3& b);
+/// A primitive's bounds grown by its magnitude slack.
+Bounds3 fuzzyBounds(const Geometry& geometry, uint32_t prim);
+
 /// Conservative bounds of primitive ∩ box, grown by a few ulps so that rounding in the clipping
 /// never loses a sliver of the primitive; empty when the primitive misses the box. Spheres use
 /// their bounding box.

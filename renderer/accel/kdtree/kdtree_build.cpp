@@ -55,7 +55,7 @@ public:
         std::vector<Ref> refs(n);
         Bounds3 box;
         for (uint32_t p = 0; p < n; ++p) {
-            refs[p] = Ref{geometry_.bounds(p), p};
+            refs[p] = Ref{fuzzyBounds(geometry_, p), p};
             box.extend(refs[p].b);
         }
         tree_.bounds_ = box;
