@@ -21,7 +21,7 @@ struct RenderSettings {
     double timeLimit = 0;    ///< Seconds; 0 for none.
     double targetError = 0;  ///< Relative RMS error to stop at; 0 for none.
     int maxDepth = 8;        ///< Longest path, in bounces.
-    std::string accelerator = "bruteforce";
+    std::string accelerator = "embree";  // the fastest of the three today
     uint64_t seed = 0;
     int threads = 0;      ///< 0 uses every core.
     double exposure = 0;  ///< Stops (powers of two) applied to PNG output.

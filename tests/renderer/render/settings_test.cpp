@@ -70,7 +70,7 @@ TEST(SettingsDefaults, EmptyObjectGivesTheDefaults) {
     EXPECT_EQ(s.timeLimit, 0.0);
     EXPECT_EQ(s.targetError, 0.0);
     EXPECT_EQ(s.maxDepth, 8);
-    EXPECT_EQ(s.accelerator, "bruteforce");
+    EXPECT_EQ(s.accelerator, "embree");
     EXPECT_EQ(s.seed, 0u);
     EXPECT_EQ(s.threads, 0);
     EXPECT_EQ(s.exposure, 0.0);
