@@ -1,5 +1,7 @@
 #include "geometry/triangle.h"
 
+#include <limits>
+
 namespace caustic {
 namespace {
 
@@ -17,6 +19,26 @@ int maxDimension(const Vec3& v) {
 
 Vec3 permute(const Vec3& v, int x, int y, int z) {
     return Vec3(v[x], v[y], v[z]);
+}
+
+// The float bound cannot tell t from zero: decide in double with the triangle's plane. The inputs
+// are floats, so the plane distance is exact to a few ulps of double; accepting only t above that
+// bound keeps a ray that starts on the triangle (after its origin offset) from hitting it, while a
+// real hit 1e-5 in front, at a crease or a room's corner, is no longer lost (pbrt-v4's bound grows
+// with the triangle's size and rejects those: light leaks at corners).
+std::optional<TriangleHit> decideNearOrigin(const Ray& ray, float tMax, const Vec3& p0,
+                                            const Vec3& p1, const Vec3& p2, TriangleHit hit) {
+    glm::dvec3 a(p0), o(ray.o), d(ray.d);
+    glm::dvec3 n = glm::cross(glm::dvec3(p1) - a, glm::dvec3(p2) - a);
+    double denom = glm::dot(n, d);
+    if (denom == 0.0) return std::nullopt;
+    double t = glm::dot(n, a - o) / denom;
+    double bound = 16.0 * std::numeric_limits<double>::epsilon() *
+                   glm::dot(glm::abs(n), glm::abs(a) + glm::abs(o)) / std::abs(denom);
+    if (!(t > bound)) return std::nullopt;
+    hit.t = static_cast<float>(t);
+    if (!(hit.t > 0.0f && hit.t < tMax)) return std::nullopt;
+    return hit;
 }
 
 }  // namespace
@@ -83,8 +105,8 @@ std::optional<TriangleHit> intersectTriangle(const Ray& ray, float tMax, const V
     float maxE = maxComponent(glm::abs(Vec3(e0, e1, e2)));
     float deltaT =
         3.0f * (gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::abs(invDet);
-    if (hit.t <= deltaT) return std::nullopt;
-    return hit;
+    if (hit.t > deltaT) return hit;
+    return decideNearOrigin(ray, tMax, p0, p1, p2, hit);
 }
 
 }  // namespace caustic

@@ -29,7 +29,7 @@ constexpr float kBoundaryTolerance = 1e-5f;
 
 struct Tally {
     std::atomic<uint64_t> rays{0}, hits{0}, hitMiss{0}, distance{0}, prim{0}, ties{0}, occlusion{0},
-        edgeTies{0}, originTies{0}, refereed{0};
+        edgeTies{0}, originTies{0}, refereed{0}, refereedFar{0};
     double worstRelative = 0;
 };
 
@@ -141,6 +141,19 @@ bool refereeAgreesWithOurs(const Geometry& g, const Ray& ray, const std::optiona
     return bestPrim && *bestPrim == ours->prim;
 }
 
+// Counts a disagreement the referee settled for ours, separately when it involves primitives
+// beyond 1e4 from the origin, where Embree's float arithmetic is coarsest.
+void countRefereed(const Geometry& g, const std::optional<Hit>& a, const std::optional<Hit>& b,
+                   Tally& t) {
+    float magnitude = 0.0f;
+    for (const auto& h : {a, b}) {
+        if (!h) continue;
+        Bounds3 pb = g.bounds(h->prim);
+        magnitude = std::max(magnitude, maxComponent(glm::max(glm::abs(pb.lo), glm::abs(pb.hi))));
+    }
+    ++(magnitude > 1e4f ? t.refereedFar : t.refereed);
+}
+
 // Prints the first few unexplained disagreements of a comparison.
 void report(std::atomic<int>& shown, const char* what, const Ray& ray, const std::optional<Hit>& a,
             const std::optional<Hit>& b) {
@@ -188,7 +201,7 @@ void compare(const Geometry& g, const Accelerator& reference, const Accelerator&
         if (bool(a) != bool(b)) {
             if (exact || !countTie(g, ray, a ? *a : *b, t)) {
                 if (!exact && refereeAgreesWithOurs(g, ray, a, b)) {
-                    ++t.refereed;
+                    countRefereed(g, a, b, t);
                 } else {
                     ++t.hitMiss;
                     report(shown, "hit or miss", ray, a, b);
@@ -203,7 +216,7 @@ void compare(const Geometry& g, const Accelerator& reference, const Accelerator&
             // Different distances: fine only if the closer hit is a tie the other one missed.
             if (exact || !countTie(g, ray, a->t < b->t ? *a : *b, t)) {
                 if (!exact && refereeAgreesWithOurs(g, ray, a, b)) {
-                    ++t.refereed;
+                    countRefereed(g, a, b, t);
                 } else {
                     ++t.distance;
                     report(shown, "distance", ray, a, b);
@@ -223,7 +236,7 @@ void compare(const Geometry& g, const Accelerator& reference, const Accelerator&
             if (tie) {
                 ++t.ties;
             } else if (!exact && refereeAgreesWithOurs(g, ray, a, b)) {
-                ++t.refereed;
+                countRefereed(g, a, b, t);
             } else {
                 ++t.prim;
                 report(shown, "primitive", ray, a, b);
@@ -233,8 +246,11 @@ void compare(const Geometry& g, const Accelerator& reference, const Accelerator&
         for (float f : {0.5f, 2.0f}) {
             bool ours = reference.occluded(ray, f * a->t), theirs = test.occluded(ray, f * a->t);
             if (ours != theirs) {
-                if (!exact && ours == (f > 1.0f)) {
-                    ++t.refereed;  // ours matches the hit distances the referee already accepted
+                if (!exact && onBoundary(g, ray, *a)) {
+                    ++t.edgeTies;
+                } else if (!exact && ours == (f > 1.0f)) {
+                    // Ours matches the hit distance both agreed on.
+                    countRefereed(g, a, b, t);
                 } else {
                     ++t.occlusion;
                     report(shown, "occlusion", ray, a, b);
@@ -247,11 +263,11 @@ void compare(const Geometry& g, const Accelerator& reference, const Accelerator&
 void expectAgreement(const char* what, const Tally& t) {
     std::printf(
         "  %-22s rays %8llu  hits %8llu  ties: equal-distance %6llu, edge %6llu, origin %5llu; "
-        "refereed for ours %4llu; worst relative distance %.2e\n",
+        "refereed for ours %4llu (+%llu beyond 1e4); worst relative distance %.2e\n",
         what, (unsigned long long)t.rays.load(), (unsigned long long)t.hits.load(),
         (unsigned long long)t.ties.load(), (unsigned long long)t.edgeTies.load(),
         (unsigned long long)t.originTies.load(), (unsigned long long)t.refereed.load(),
-        t.worstRelative);
+        (unsigned long long)t.refereedFar.load(), t.worstRelative);
     EXPECT_EQ(t.hitMiss.load(), 0u) << what;
     EXPECT_EQ(t.distance.load(), 0u) << what;
     EXPECT_EQ(t.prim.load(), 0u) << what;
@@ -260,6 +276,9 @@ void expectAgreement(const char* what, const Tally& t) {
     // Embree's own errors (the referee sides with ours) are rare.
     EXPECT_LE(t.edgeTies.load() + t.originTies.load(), t.rays.load() / 10) << what;
     EXPECT_LE(t.refereed.load(), t.rays.load() / 1000) << what;
+    // Beyond 1e4 from the origin a float holds positions to 1e-3 or worse, and Embree's arithmetic
+    // there is coarser than ours: measured 1.6e-3 of the adversarial scene's rays; bound 5e-3.
+    EXPECT_LE(t.refereedFar.load(), t.rays.load() / 200) << what;
 }
 
 std::vector<Ray> raysFor(const Geometry& g, const Accelerator& accel, size_t n, uint64_t seed) {
@@ -271,16 +290,6 @@ std::vector<Ray> raysFor(const Geometry& g, const Accelerator& accel, size_t n, 
     addVertexAndEdgeRays(g, b, n * 2 / 10, rng, rays);
     addSurfaceRays(g, accel, n - rays.size(), rng, rays);
     return rays;
-}
-
-// Checks the kd-tree against brute force, exactly, on a million rays.
-void kdTreeMatchesBruteForce(const Geometry& g, size_t rays, uint64_t seed) {
-    BruteForceAccel brute(g);
-    KdTreeAccel kdtree(g);
-    std::vector<Ray> all = raysFor(g, kdtree, rays, seed);
-    Tally kdBrute;
-    compare(g, brute, kdtree, all, /*exact=*/true, kdBrute);
-    expectAgreement("kdtree vs bruteforce", kdBrute);
 }
 
 // Checks kd-tree and Embree against brute force on `bruteRays` rays, and against each other on
@@ -328,10 +337,7 @@ TEST(AcceleratorCrossCheck, RandomTriangleSoup) {
     crossCheck(g, kMillion, 200000, 4);
 }
 
-// Embree is left out here: at 1e5 scale it disagrees with the double-precision referee on 0.17% of
-// these rays, and pbrt-v4's bound rejects some near-origin hits the referee accepts (see the notes
-// of issue 3); the kd-tree must still match brute force exactly.
-TEST(AcceleratorCrossCheck, KdTreeMatchesBruteForceOnAdversarialCases) {
+TEST(AcceleratorCrossCheck, AdversarialCases) {
     Geometry g;
     // A closed box of quads (rays run along its faces and through its edges and corners).
     Vec3 o(-1.0f);
@@ -379,7 +385,7 @@ TEST(AcceleratorCrossCheck, KdTreeMatchesBruteForceOnAdversarialCases) {
     g.addSphere(Sphere{Vec3(0.5f, 0.5f, -0.5f), 0.25f}, 0);
     g.addSphere(Sphere{Vec3(0.0f, 0.0f, 0.0f), 1e-3f}, 0);
     g.addSphere(Sphere{Vec3(5e4f, 5e4f, 5e4f), 100.0f}, 0);
-    kdTreeMatchesBruteForce(g, kMillion, 5);
+    crossCheck(g, kMillion, kMillion, 5);
 }
 
 }  // namespace

@@ -1,0 +1,479 @@
+// Our kd-tree against Embree (and brute force on the small mesh): build time, memory, and rays per
+// second for primary and random rays, closest hit and occlusion, with 1 thread and with every
+// OpenMP thread. kdtree and embree run side by side in one process, interleaved (A B A B), because
+// the machine is shared and noisy; read the ratios, not the seconds.
+#include <omp.h>
+#include <sched.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "accel/accelerator.h"
+#include "accel/kdtree/kdtree.h"
+#include "core/sampling.h"
+#include "scene/camera.h"
+#include "scene/mesh_loader.h"
+
+namespace {
+
+using namespace caustic;
+
+constexpr const char* kUsage =
+    "usage: bench_accel_rays [--repeats N] [--meshes bunny,teapot,bunny-1m] [--smoke]\n"
+    "  --repeats N    builds and interleaved kdtree / embree timings per measure (default 3)\n"
+    "  --meshes LIST  comma-separated, from bunny, teapot, bunny-1m (default: all three)\n"
+    "  --smoke        teapot only, 64x64 primary rays, 4096 random rays, 1 repeat\n";
+
+const std::vector<std::string> kMeshNames = {"bunny", "teapot", "bunny-1m"};
+
+struct Options {
+    int repeats = 3;
+    std::vector<std::string> meshes = kMeshNames;
+    int side = 512;              // primary rays: side x side pixels, one ray each
+    size_t randomRays = 262144;  // random rays
+    size_t bruteRays = 16384;    // at most this many rays per set for bruteforce
+};
+
+int parsePositive(const std::string& text, const std::string& what) {
+    size_t used = 0;
+    int v = 0;
+    try {
+        v = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || v <= 0)
+        throw std::invalid_argument(what + ": expected a positive integer, got \"" + text + "\"");
+    return v;
+}
+
+Options parseArgs(const std::vector<std::string>& args) {
+    Options o;
+    bool smoke = false;
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&]() -> const std::string& {
+            if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
+            return args[++i];
+        };
+        if (a == "--repeats") {
+            o.repeats = parsePositive(value(), a);
+        } else if (a == "--meshes") {
+            o.meshes.clear();
+            std::stringstream list(value());
+            for (std::string item; std::getline(list, item, ',');) {
+                if (std::find(kMeshNames.begin(), kMeshNames.end(), item) == kMeshNames.end())
+                    throw std::invalid_argument("--meshes: unknown mesh \"" + item +
+                                                "\" (valid: bunny, teapot, bunny-1m)");
+                o.meshes.push_back(item);
+            }
+            if (o.meshes.empty()) throw std::invalid_argument("--meshes: empty list");
+        } else if (a == "--smoke") {
+            smoke = true;
+        } else {
+            throw std::invalid_argument("unknown option \"" + a + "\"");
+        }
+    }
+    if (smoke) {
+        o.repeats = 1;
+        o.meshes = {"teapot"};
+        o.side = 64;
+        o.randomRays = 4096;
+    }
+    return o;
+}
+
+std::string cpuModel() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("model name", 0) != 0) continue;
+        size_t colon = line.find(':');
+        if (colon != std::string::npos)
+            return line.substr(line.find_first_not_of(" \t", colon + 1));
+    }
+    return "unknown CPU";
+}
+
+// CPUs this process may run on: what `nproc` prints when OMP_NUM_THREADS is unset.
+int onlineCpus() {
+    cpu_set_t set;
+    return sched_getaffinity(0, sizeof(set), &set) == 0 ? CPU_COUNT(&set) : 0;
+}
+
+std::string commandLine(int argc, char** argv) {
+    std::string cmd;
+    for (int i = 0; i < argc; ++i) {
+        const std::string a = argv[i];
+        const bool quote = a.empty() || a.find_first_of(" \t'\"$") != std::string::npos;
+        if (i) cmd += ' ';
+        if (quote) cmd += '\'';
+        cmd += a;
+        if (quote) cmd += '\'';
+    }
+    return cmd;
+}
+
+std::string fmt(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), format, v);
+    return buf;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Scales and translates the mesh so that its bounds fit [-0.5, 0.5]^3, centred at the origin.
+void normalize(TriangleMesh& mesh) {
+    Bounds3 b;
+    for (const Vec3& p : mesh.positions) b.extend(p);
+    const Vec3 center = b.center();
+    const float scale = 1.0f / maxComponent(b.diagonal());
+    for (Vec3& p : mesh.positions) p = (p - center) * scale;
+}
+
+// 1-to-4 midpoint subdivision. Each edge's midpoint is made once (keyed by its sorted vertex
+// pair), so triangles that shared an edge share its midpoint and the mesh stays watertight.
+TriangleMesh subdivide(const TriangleMesh& in) {
+    TriangleMesh out;
+    out.positions = in.positions;
+    out.triangles.reserve(4 * in.triangles.size());
+    std::unordered_map<uint64_t, uint32_t> midpoints;
+    midpoints.reserve(2 * in.triangles.size());
+    auto midpoint = [&](uint32_t a, uint32_t b) {
+        uint64_t key = uint64_t(std::min(a, b)) << 32 | std::max(a, b);
+        auto [it, added] = midpoints.try_emplace(key, uint32_t(out.positions.size()));
+        if (added) out.positions.push_back(0.5f * (in.positions[a] + in.positions[b]));
+        return it->second;
+    };
+    for (const glm::uvec3& t : in.triangles) {
+        uint32_t ab = midpoint(t.x, t.y), bc = midpoint(t.y, t.z), ca = midpoint(t.z, t.x);
+        out.triangles.insert(out.triangles.end(),
+                             {glm::uvec3(t.x, ab, ca), glm::uvec3(ab, t.y, bc),
+                              glm::uvec3(ca, bc, t.z), glm::uvec3(ab, bc, ca)});
+    }
+    return out;
+}
+
+// Edges used by exactly one triangle: the mesh's holes. Subdivision must only double them.
+size_t boundaryEdges(const TriangleMesh& mesh) {
+    std::unordered_map<uint64_t, uint32_t> uses;
+    uses.reserve(2 * mesh.triangles.size());
+    for (const glm::uvec3& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = t[k], b = t[(k + 1) % 3];
+            ++uses[uint64_t(std::min(a, b)) << 32 | std::max(a, b)];
+        }
+    return size_t(std::count_if(uses.begin(), uses.end(), [](auto& e) { return e.second == 1; }));
+}
+
+TriangleMesh loadMesh(const std::string& name) {
+    const std::string file = name == "teapot" ? "teapot.obj" : "stanford-bunny.obj";
+    TriangleMesh mesh = loadObj(std::string(CAUSTIC_DEFAULT_ASSETS_DIR) + "/" + file,
+                                MeshTransform{}, "/meshes/" + name);
+    normalize(mesh);
+    if (name == "bunny-1m") mesh = subdivide(subdivide(mesh));
+    return mesh;
+}
+
+// Primary rays: a pinhole camera outside the unit box, looking at its centre; one ray through the
+// centre of each pixel, row by row.
+std::vector<Ray> primaryRays(int side) {
+    const Camera camera(Vec3(1.1f, 0.7f, 1.9f), Vec3(0.0f), Vec3(0.0f, 1.0f, 0.0f), 30.0f, side,
+                        side);
+    std::vector<Ray> rays;
+    rays.reserve(size_t(side) * size_t(side));
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x)
+            rays.push_back(camera.generateRay(float(x) + 0.5f, float(y) + 0.5f));
+    return rays;
+}
+
+// Incoherent rays: origins uniform in the bounds grown by 50% about their centre, directions
+// uniform on the sphere. Fixed seed: every run traces the same rays.
+std::vector<Ray> randomRays(const Bounds3& bounds, size_t n) {
+    std::mt19937 rng(20240607u);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    const Vec3 lo = bounds.center() - 0.75f * bounds.diagonal(), size = 1.5f * bounds.diagonal();
+    std::vector<Ray> rays(n);
+    for (Ray& r : rays) {
+        r.o = lo + Vec3(u01(rng), u01(rng), u01(rng)) * size;
+        r.d = sampleUniformSphere(Vec2(u01(rng), u01(rng)));
+    }
+    return rays;
+}
+
+// At most `limit` rays of a set, spread over all of it (for bruteforce).
+std::vector<Ray> spread(const std::vector<Ray>& rays, size_t limit) {
+    size_t stride = std::max<size_t>(1, rays.size() / limit);
+    std::vector<Ray> out;
+    for (size_t i = 0; i < rays.size() && out.size() < limit; i += stride) out.push_back(rays[i]);
+    return out;
+}
+
+enum class Query { Closest, Occluded };
+
+// Traces every ray with `threads` threads; returns seconds. `checksum` gets the sum of hit
+// distances (closest) or the number of occluded rays, so that the work cannot be optimized away.
+double trace(const Accelerator& accel, const std::vector<Ray>& rays, Query query, int threads,
+             double& checksum) {
+    const ptrdiff_t n = ptrdiff_t(rays.size());
+    double sum = 0;
+    auto start = std::chrono::steady_clock::now();
+    if (query == Query::Closest) {
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(threads) reduction(+ : sum)
+        for (ptrdiff_t i = 0; i < n; ++i)
+            if (std::optional<Hit> h = accel.intersect(rays[size_t(i)], kInfinity)) sum += h->t;
+    } else {
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(threads) reduction(+ : sum)
+        for (ptrdiff_t i = 0; i < n; ++i)
+            if (accel.occluded(rays[size_t(i)], kInfinity)) sum += 1.0;
+    }
+    double seconds = secondsSince(start);
+    checksum = sum;
+    return seconds;
+}
+
+// Hit (1) or miss (0) of each ray: the untimed warm-up pass, kept for the agreement check.
+std::vector<uint8_t> hitFlags(const Accelerator& accel, const std::vector<Ray>& rays) {
+    std::vector<uint8_t> hit(rays.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (ptrdiff_t i = 0; i < ptrdiff_t(rays.size()); ++i)
+        hit[size_t(i)] = accel.intersect(rays[size_t(i)], kInfinity) ? 1 : 0;
+    return hit;
+}
+
+double fraction(const std::vector<uint8_t>& a, const std::vector<uint8_t>* b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.size(); ++i) n += b ? a[i] == (*b)[i] : a[i];
+    return double(n) / double(a.size());
+}
+
+struct RayRow {
+    std::string kind;
+    Query query;
+    int threads;
+    std::map<std::string, std::vector<double>> seconds;  // accelerator -> one per repeat
+    std::map<std::string, size_t> rays;
+    std::map<std::string, double> checksum;
+    double raysPerSecond(const std::string& accel) const {
+        return double(rays.at(accel)) / median(seconds.at(accel));
+    }
+    double bestRaysPerSecond(const std::string& accel) const {
+        const std::vector<double>& s = seconds.at(accel);
+        return double(rays.at(accel)) / *std::min_element(s.begin(), s.end());
+    }
+};
+
+struct SetAgreement {
+    std::string kind;
+    size_t rays;
+    double kdHits, embreeHits, agree;
+};
+
+struct MeshResult {
+    std::string name;
+    size_t triangles, vertices, holes, geometryBytes;
+    std::vector<std::string> accels;
+    std::map<std::string, std::vector<double>> buildSeconds;
+    std::map<std::string, size_t> memory;
+    KdTreeStats kd;
+    std::vector<SetAgreement> agreement;
+    std::vector<RayRow> rows;
+};
+
+MeshResult runMesh(const std::string& name, const Options& opt, int allThreads) {
+    MeshResult r;
+    r.name = name;
+    TriangleMesh mesh = loadMesh(name);
+    Geometry geometry;
+    geometry.addTriangles(mesh.positions, mesh.triangles, 0);
+    r.triangles = mesh.triangles.size();
+    r.vertices = mesh.positions.size();
+    r.holes = boundaryEdges(mesh);
+    r.geometryBytes = geometry.memoryBytes();
+    r.accels = {"kdtree", "embree"};
+    if (name == "teapot") r.accels.push_back("bruteforce");
+
+    // Build each accelerator --repeats times, interleaved; keep the last of each.
+    std::map<std::string, std::unique_ptr<Accelerator>> accel;
+    for (int rep = 0; rep < opt.repeats; ++rep)
+        for (const std::string& a : r.accels) {
+            accel[a].reset();
+            auto start = std::chrono::steady_clock::now();
+            accel[a] = createAccelerator(a, geometry);
+            r.buildSeconds[a].push_back(secondsSince(start));
+        }
+    for (const std::string& a : r.accels) r.memory[a] = accel[a]->memoryBytes();
+    r.kd = dynamic_cast<const KdTreeAccel&>(*accel["kdtree"]).stats();
+
+    const std::vector<std::pair<std::string, std::vector<Ray>>> sets = {
+        {"primary", primaryRays(opt.side)},
+        {"random", randomRays(geometry.bounds(), opt.randomRays)}};
+    for (const auto& [kind, rays] : sets) {
+        // Warm up (untimed) and check that kdtree and embree agree on hit or miss.
+        std::vector<uint8_t> kdHit = hitFlags(*accel["kdtree"], rays);
+        std::vector<uint8_t> emHit = hitFlags(*accel["embree"], rays);
+        r.agreement.push_back({kind, rays.size(), fraction(kdHit, nullptr),
+                               fraction(emHit, nullptr), fraction(kdHit, &emHit)});
+        const std::vector<Ray> few = spread(rays, opt.bruteRays);
+        for (Query query : {Query::Closest, Query::Occluded})
+            for (int threads : {1, allThreads}) {
+                RayRow row{kind, query, threads, {}, {}, {}};
+                for (int rep = 0; rep < opt.repeats; ++rep)
+                    for (const std::string& a : r.accels) {
+                        const std::vector<Ray>& set = a == "bruteforce" ? few : rays;
+                        row.seconds[a].push_back(
+                            trace(*accel[a], set, query, threads, row.checksum[a]));
+                        row.rays[a] = set.size();
+                    }
+                r.rows.push_back(std::move(row));
+            }
+    }
+    return r;
+}
+
+std::string ratioCell(double ratio) {
+    return fmt("%.2f×", ratio);
+}
+
+void printTables(const std::vector<MeshResult>& results, const Options& opt, int allThreads) {
+    const std::string reps = std::to_string(opt.repeats);
+    std::cout << "### Meshes (each normalized to fit a unit box)\n\n"
+              << "| mesh | triangles | vertices | boundary edges | Geometry MB "
+                 "|\n|---|---:|---:|---:|---:|\n";
+    for (const MeshResult& r : results)
+        std::cout << "| " << r.name << " | " << r.triangles << " | " << r.vertices << " | "
+                  << r.holes << " | " << fmt("%.2f", double(r.geometryBytes) / (1024.0 * 1024.0))
+                  << " |\n";
+
+    std::cout << "\n### Summary: kdtree cost relative to embree (> 1: kdtree slower)\n\n"
+              << "Build: kdtree seconds / embree seconds. Rays: embree rays/s / kdtree rays/s. "
+              << "1T = 1 thread, " << allThreads << "T = all threads.\n\n"
+              << "| mesh | build |";
+    for (const char* kind : {"primary", "random"})
+        for (const char* query : {"closest", "occluded"})
+            for (int t : {1, allThreads})
+                std::cout << " " << kind << " " << query << " " << t << "T |";
+    std::cout << "\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const MeshResult& r : results) {
+        std::cout << "| " << r.name << " | "
+                  << ratioCell(median(r.buildSeconds.at("kdtree")) /
+                               median(r.buildSeconds.at("embree")))
+                  << " |";
+        for (const RayRow& row : r.rows)
+            std::cout << " " << ratioCell(row.raysPerSecond("embree") / row.raysPerSecond("kdtree"))
+                      << " |";
+        std::cout << "\n";
+    }
+
+    std::cout << "\n### Build (all threads: both builders are parallel), median of " << reps
+              << " interleaved builds\n\n"
+              << "| mesh | accelerator | build ms | min ms | memoryBytes MB | bytes / triangle |\n"
+              << "|---|---|---:|---:|---:|---:|\n";
+    for (const MeshResult& r : results)
+        for (const std::string& a : r.accels) {
+            const std::vector<double>& s = r.buildSeconds.at(a);
+            double mb = double(r.memory.at(a)) / (1024.0 * 1024.0);
+            std::cout << "| " << r.name << " | " << a << " | " << fmt("%.2f", 1e3 * median(s))
+                      << " | " << fmt("%.2f", 1e3 * *std::min_element(s.begin(), s.end())) << " | "
+                      << fmt("%.2f", mb) << " | "
+                      << fmt("%.1f", double(r.memory.at(a)) / double(r.triangles)) << " |\n";
+        }
+    std::cout << "\nmemoryBytes: what the accelerator holds beyond the Geometry. Embree's counts "
+                 "only the buffers we hand it: Embree does not report its BVH.\n";
+
+    std::cout << "\n### kdtree structure\n\n"
+              << "| mesh | nodes | interior | leaves | empty leaves | max depth | references / "
+                 "triangle | SAH cost |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const MeshResult& r : results)
+        std::cout << "| " << r.name << " | " << r.kd.interiorNodes + r.kd.leaves << " | "
+                  << r.kd.interiorNodes << " | " << r.kd.leaves << " | " << r.kd.emptyLeaves
+                  << " | " << r.kd.maxDepth << " | "
+                  << fmt("%.2f", double(r.kd.references) / double(r.triangles)) << " | "
+                  << fmt("%.2f", r.kd.sahCost) << " |\n";
+
+    std::cout << "\n### Rays per second (millions), median of " << reps
+              << " interleaved runs; closest = intersect, occluded = occluded(tMax = inf)\n\n"
+              << "| mesh | rays | query | threads | rays traced | kdtree | embree | bruteforce "
+                 "| embree / kdtree | same, of mins "
+                 "|\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const MeshResult& r : results)
+        for (const RayRow& row : r.rows) {
+            double kd = row.raysPerSecond("kdtree"), em = row.raysPerSecond("embree");
+            std::cout << "| " << r.name << " | " << row.kind << " | "
+                      << (row.query == Query::Closest ? "closest" : "occluded") << " | "
+                      << row.threads << " | " << row.rays.at("kdtree") << " | "
+                      << fmt("%.3f", kd / 1e6) << " | " << fmt("%.3f", em / 1e6) << " | "
+                      << (row.rays.count("bruteforce")
+                              ? fmt("%.4f", row.raysPerSecond("bruteforce") / 1e6) + " (" +
+                                    std::to_string(row.rays.at("bruteforce")) + " rays)"
+                              : "—")
+                      << " | " << ratioCell(em / kd) << " | "
+                      << ratioCell(row.bestRaysPerSecond("embree") /
+                                   row.bestRaysPerSecond("kdtree"))
+                      << " |\n";
+        }
+
+    std::cout << "\n### Sanity: hit or miss per ray, kdtree against embree (primary must agree on "
+                 ">= 99.9%)\n\n| mesh | rays | count | kdtree hits | embree hits | agreement |\n"
+                 "|---|---|---:|---:|---:|---:|\n";
+    for (const MeshResult& r : results)
+        for (const SetAgreement& a : r.agreement)
+            std::cout << "| " << r.name << " | " << a.kind << " | " << a.rays << " | "
+                      << fmt("%.2f%%", 100 * a.kdHits) << " | " << fmt("%.2f%%", 100 * a.embreeHits)
+                      << " | " << fmt("%.4f%%", 100 * a.agree)
+                      << (a.kind == "primary" && a.agree < 0.999 ? " **below 99.9%**" : "")
+                      << " |\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options opt;
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
+        std::cout << kUsage;
+        return 0;
+    }
+    try {
+        opt = parseArgs(args);
+    } catch (const std::exception& e) {
+        std::cerr << "bench_accel_rays: " << e.what() << "\n" << kUsage;
+        return 2;
+    }
+    const int allThreads = omp_get_max_threads();
+    std::cout << "Machine: nproc " << onlineCpus() << ", OpenMP threads " << allThreads << ", "
+              << cpuModel() << ". Command: `" << commandLine(argc, argv) << "`\n\n";
+
+    std::vector<MeshResult> results;
+    try {
+        for (const std::string& name : opt.meshes) {
+            results.push_back(runMesh(name, opt, allThreads));
+            std::cerr << "done " << name << "\n";
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "bench_accel_rays: " << e.what() << "\n";
+        return 1;
+    }
+    printTables(results, opt, allThreads);
+    for (const MeshResult& r : results)
+        if (r.agreement.front().agree < 0.999) return 1;
+    return 0;
+}
