@@ -16,7 +16,7 @@ namespace caustic {
 namespace {
 
 constexpr int kBins = 32;
-constexpr size_t kExactLimit = 256;
+constexpr size_t kExactLimit = 64;
 constexpr size_t kParallelLimit = 4096;
 
 struct Ref {
