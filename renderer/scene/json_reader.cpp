@@ -66,6 +66,22 @@ float readNumber(const Json& j, const std::string& path) {
     return static_cast<float>(v);
 }
 
+double readDouble(const Json& j, const std::string& path) {
+    if (!j.is_number()) throw InputError(path, "expected a number, got " + jsonTypeName(j));
+    double v = j.get<double>();
+    if (!std::isfinite(v)) throw InputError(path, "must be a finite number");
+    return v;
+}
+
+DVec3 readDVec3(const Json& j, const std::string& path) {
+    if (!j.is_array() || j.size() != 3)
+        throw InputError(
+            path, "expected an array of 3 numbers, got " +
+                      (j.is_array() ? "an array of " + std::to_string(j.size()) : jsonTypeName(j)));
+    return DVec3(readDouble(j[0], jsonPointer(path, 0)), readDouble(j[1], jsonPointer(path, 1)),
+                 readDouble(j[2], jsonPointer(path, 2)));
+}
+
 int64_t readInteger(const Json& j, const std::string& path) {
     // Integers up to 2^53 in magnitude: the ones a double (JSON's number) holds exactly.
     constexpr int64_t kLimit = int64_t(1) << 53;

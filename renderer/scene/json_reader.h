@@ -23,6 +23,9 @@ std::string jsonTypeName(const Json& j);
 
 /// Reads a scalar or vector value at `path`; throws InputError on a wrong type or non-finite value.
 float readNumber(const Json& j, const std::string& path);
+/// A finite number kept in double (positions, before they are made camera-relative).
+double readDouble(const Json& j, const std::string& path);
+DVec3 readDVec3(const Json& j, const std::string& path);
 int64_t readInteger(const Json& j, const std::string& path);
 Vec3 readVec3(const Json& j, const std::string& path);
 

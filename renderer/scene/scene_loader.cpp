@@ -20,6 +20,27 @@ const std::vector<std::string> kMaterialTypes{"diffuse", "mirror", "dielectric"}
 const std::vector<std::string> kShapeTypes{"sphere", "quad", "triangle", "mesh"};
 const std::vector<std::string> kLightTypes{"point"};
 
+// Positions are stored relative to the camera: the loader subtracts the camera's position in double
+// before anything is rounded to float. Rendering is invariant under translation, and a scene 1e5
+// from the origin then keeps every bit of precision near the camera (camera-relative rendering),
+// where a float at 1e5 would hold positions only to 0.008.
+struct Frame {
+    DVec3 origin{0.0};
+
+    Vec3 point(const Json& j, const std::string& path) const {
+        DVec3 p = readDVec3(j, path) - origin;
+        for (int i = 0; i < 3; ++i)
+            if (!(std::abs(p[i]) <= 3.0e38))
+                throw InputError(
+                    jsonPointer(path, size_t(i)),
+                    "is out of the range of a float (|x| <= 3e38) relative to the camera");
+        return Vec3(p);
+    }
+    Vec3 point(JsonObject& o, const std::string& key) const {
+        return point(o.require(key), o.pathOf(key));
+    }
+};
+
 // A reflectance in [0, 1] per channel: anything above 1 would create energy.
 Color readReflectance(JsonObject& o, const std::string& key, const Color& fallback) {
     Color c = o.color(key, fallback);
@@ -30,10 +51,11 @@ Color readReflectance(JsonObject& o, const std::string& key, const Color& fallba
     return c;
 }
 
-Camera readCamera(const Json& j, const SceneOptions& options) {
+Camera readCamera(const Json& j, const SceneOptions& options, Frame& frame) {
     JsonObject o(j, "/camera");
-    Vec3 position = o.vec3("position");
-    Vec3 lookAt = o.vec3("look_at");
+    frame.origin = readDVec3(o.require("position"), o.pathOf("position"));
+    Vec3 position(0.0f);
+    Vec3 lookAt = frame.point(o, "look_at");
     Vec3 up = o.vec3("up", Vec3(0.0f, 1.0f, 0.0f));
     float fov = o.number("fov", 40.0f);
     int64_t width = o.find("width") ? readInteger(j["width"], o.pathOf("width")) : 512;
@@ -89,7 +111,7 @@ uint32_t readMaterialRef(JsonObject& o, const Scene& scene) {
                                                (valid.empty() ? "(none defined)" : valid));
 }
 
-MeshTransform readTransform(const Json& j, const std::string& path) {
+MeshTransform readTransform(const Json& j, const std::string& path, const Frame& frame) {
     JsonObject o(j, path);
     MeshTransform t;
     if (const Json* s = o.find("scale")) {
@@ -99,21 +121,23 @@ MeshTransform readTransform(const Json& j, const std::string& path) {
             if (!(t.scale[i] != 0.0f)) throw InputError(o.pathOf("scale"), "must not be zero");
     }
     t.rotateDegrees = o.vec3("rotate", Vec3(0.0f));
-    t.translate = o.vec3("translate", Vec3(0.0f));
+    const Json* translate = o.find("translate");
+    t.translate = translate ? frame.point(*translate, o.pathOf("translate")) : Vec3(-frame.origin);
     o.finish();
     return t;
 }
 
-void readShape(const Json& j, const std::string& path, Scene& scene, const SceneOptions& options) {
+void readShape(const Json& j, const std::string& path, Scene& scene, const SceneOptions& options,
+               const Frame& frame) {
     JsonObject o(j, path);
     std::string type = o.choice("type", kShapeTypes);
     uint32_t material = readMaterialRef(o, scene);
     if (type == "sphere") {
-        Vec3 center = o.vec3("center");
+        Vec3 center = frame.point(o, "center");
         float radius = o.positive("radius");
         scene.geometry.addSphere(Sphere{center, radius}, material);
     } else if (type == "quad") {
-        Vec3 origin = o.vec3("origin"), u = o.vec3("u"), v = o.vec3("v");
+        Vec3 origin = frame.point(o, "origin"), u = o.vec3("u"), v = o.vec3("v");
         if (!(glm::length(glm::cross(u, v)) > 0.0f))
             throw InputError(o.pathOf("v"),
                              "must not be zero or parallel to u (the quad has no area)");
@@ -126,15 +150,17 @@ void readShape(const Json& j, const std::string& path, Scene& scene, const Scene
                                      (vs.is_array() ? "an array of " + std::to_string(vs.size())
                                                     : jsonTypeName(vs)));
         std::vector<Vec3> p;
-        for (size_t i = 0; i < 3; ++i) p.push_back(readVec3(vs[i], jsonPointer(at, i)));
+        for (size_t i = 0; i < 3; ++i) p.push_back(frame.point(vs[i], jsonPointer(at, i)));
         if (!(glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) > 0.0f))
             throw InputError(at, "the triangle has no area");
         scene.geometry.addTriangles(p, {glm::uvec3(0, 1, 2)}, material);
     } else {
         std::string file = o.string("file");
+        // Without a transform the mesh stays where its file puts it, relative to the camera.
         MeshTransform transform;
+        transform.translate = Vec3(-frame.origin);
         if (const Json* t = o.find("transform"))
-            transform = readTransform(*t, o.pathOf("transform"));
+            transform = readTransform(*t, o.pathOf("transform"), frame);
         std::filesystem::path full = resolveAsset(options.assetsDir, file, o.pathOf("file"));
         TriangleMesh mesh = loadObj(full, transform, o.pathOf("file"));
         scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
@@ -142,10 +168,10 @@ void readShape(const Json& j, const std::string& path, Scene& scene, const Scene
     o.finish();
 }
 
-void readLight(const Json& j, const std::string& path, Scene& scene) {
+void readLight(const Json& j, const std::string& path, Scene& scene, const Frame& frame) {
     JsonObject o(j, path);
     o.choice("type", kLightTypes);
-    Vec3 position = o.vec3("position");
+    Vec3 position = frame.point(o, "position");
     Color intensity = o.color("intensity");
     o.finish();
     scene.lights.push_back(std::make_unique<PointLight>(position, intensity));
@@ -162,7 +188,8 @@ const Json& requireArray(JsonObject& o, const std::string& key) {
 std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
     auto scene = std::make_unique<Scene>();
     JsonObject root(doc, "");
-    scene->camera = readCamera(root.require("camera"), options);
+    Frame frame;
+    scene->camera = readCamera(root.require("camera"), options, frame);
 
     // Materials first: shapes refer to them by name.
     const Json& materials = root.require("materials");
@@ -175,12 +202,12 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
 
     const Json& shapes = requireArray(root, "shapes");
     for (size_t i = 0; i < shapes.size(); ++i)
-        readShape(shapes[i], jsonPointer("/shapes", i), *scene, options);
+        readShape(shapes[i], jsonPointer("/shapes", i), *scene, options, frame);
 
     if (root.find("lights")) {
         const Json& lights = requireArray(root, "lights");
         for (size_t i = 0; i < lights.size(); ++i)
-            readLight(lights[i], jsonPointer("/lights", i), *scene);
+            readLight(lights[i], jsonPointer("/lights", i), *scene, frame);
     }
     scene->background = root.color("background", Color(0.0f));
     if (const Json* settings = root.find("settings")) {

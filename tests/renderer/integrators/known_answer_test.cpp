@@ -32,7 +32,10 @@ json pointLightOverPlane(int width, int height) {
                    {{"camera", {{"width", width}, {"height", height}}}});
 }
 
-// Radiance of the plane at a point: albedo / pi * I cos(theta) / d^2.
+// The scene's camera position: the loader stores positions relative to it.
+const Vec3 kCamera(0.0f, 2.0f, 2.5f);
+
+// Radiance of the plane at a point (world space): albedo / pi * I cos(theta) / d^2.
 Color planeRadiance(const Vec3& p) {
     const Vec3 light(0.3f, 1.0f, -0.2f);
     const Color albedo(0.5f, 0.25f, 0.75f), intensity(10, 20, 5);
@@ -51,8 +54,9 @@ Color pixelAverage(const Camera& camera, int x, int y) {
         for (int i = 0; i < n; ++i) {
             Ray r = camera.generateRay(float(x) + (float(i) + 0.5f) / n,
                                        float(y) + (float(j) + 0.5f) / n);
-            float t = -r.o.y / r.d.y;
-            sum += DVec3(planeRadiance(r.o + t * r.d));
+            Vec3 o = r.o + kCamera;  // back to world space
+            float t = -o.y / r.d.y;
+            sum += DVec3(planeRadiance(o + t * r.d));
         }
     }
     return Color(sum / double(n * n));

@@ -17,6 +17,7 @@
 #include "lights/point_light.h"
 #include "materials/dielectric.h"
 #include "materials/diffuse.h"
+#include "scene/json_reader.h"
 #include "scene/scene.h"
 #include "support/test_scenes.h"
 
@@ -234,9 +235,12 @@ TEST(SceneLoaderErrors, NonFiniteNumbers) {
 }
 
 TEST(SceneLoaderErrors, NumberOverflowsFloat) {
+    // Positions are checked after they are made relative to the camera.
     EXPECT_SCENE_ERROR(patched("/shapes/0/center/2", 1e308), "/shapes/0/center/2",
-                       "is out of the range of a float (|x| <= 3e38)");
+                       "is out of the range of a float (|x| <= 3e38) relative to the camera");
     EXPECT_SCENE_ERROR(patched("/shapes/0/center/2", -1e39), "/shapes/0/center/2",
+                       "is out of the range of a float (|x| <= 3e38) relative to the camera");
+    EXPECT_SCENE_ERROR(patched("/shapes/0/radius", 1e39), "/shapes/0/radius",
                        "is out of the range of a float (|x| <= 3e38)");
 }
 
@@ -585,7 +589,9 @@ TEST(SceneLoaderDefaults, PointLightsAndEmittersBecomeLights) {
     ASSERT_EQ(scene->lights.size(), 2u);
     const auto* point = dynamic_cast<const PointLight*>(scene->lights[0].get());
     ASSERT_NE(point, nullptr);
-    EXPECT_EQ(point->position(), Vec3(0, 2, 0));
+    // Positions are stored relative to the camera.
+    Vec3 camera = readVec3(doc["camera"]["position"], "/camera/position");
+    EXPECT_EQ(point->position(), Vec3(0, 2, 0) - camera);
     const auto* area = dynamic_cast<const AreaLight*>(scene->lights[1].get());
     ASSERT_NE(area, nullptr);
     EXPECT_EQ(area->prim(), 1u);
