@@ -44,15 +44,15 @@ void sphereIntersect(const RTCIntersectFunctionNArguments* args) {
         if (args->valid[i] != -1) continue;
         Ray ray = rayAt(rays, args->N, i);
         float& tfar = RTCRayN_tfar(rays, args->N, i);
-        auto h = sphere.intersect(ray, tfar);
-        if (!h || h->first < RTCRayN_tnear(rays, args->N, i)) continue;
-        tfar = h->first;
-        Vec3 n = sphere.normal(ray.o + h->first * ray.d);
+        auto t = sphere.intersect(ray, tfar);
+        if (!t || *t < RTCRayN_tnear(rays, args->N, i)) continue;
+        tfar = *t;
+        Vec3 n = sphere.normal(ray.o + *t * ray.d);
         RTCHitN_Ng_x(hits, args->N, i) = n.x;
         RTCHitN_Ng_y(hits, args->N, i) = n.y;
         RTCHitN_Ng_z(hits, args->N, i) = n.z;
-        RTCHitN_u(hits, args->N, i) = h->second.x;
-        RTCHitN_v(hits, args->N, i) = h->second.y;
+        RTCHitN_u(hits, args->N, i) = 0.0f;  // finish() computes a sphere's uv
+        RTCHitN_v(hits, args->N, i) = 0.0f;
         RTCHitN_primID(hits, args->N, i) = args->primID;
         RTCHitN_geomID(hits, args->N, i) = args->geomID;
         RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
@@ -65,8 +65,8 @@ void sphereOccluded(const RTCOccludedFunctionNArguments* args) {
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         float& tfar = RTCRayN_tfar(args->ray, args->N, i);
-        auto h = sphere.intersect(rayAt(args->ray, args->N, i), tfar);
-        if (h && h->first >= RTCRayN_tnear(args->ray, args->N, i)) tfar = -kInfinity;
+        auto t = sphere.intersect(rayAt(args->ray, args->N, i), tfar);
+        if (t && *t >= RTCRayN_tnear(args->ray, args->N, i)) tfar = -kInfinity;
     }
 }
 

@@ -91,7 +91,8 @@ std::optional<PrimHit> Geometry::intersect(uint32_t prim, const Ray& ray, float 
     uint32_t i = local_[prim];
     switch (kind_[prim]) {
         case PrimKind::Sphere:
-            if (auto h = spheres_[i].intersect(ray, tMax)) return PrimHit{h->first, h->second};
+            // Its uv is computed once, for the closest hit, in finish().
+            if (auto t = spheres_[i].intersect(ray, tMax)) return PrimHit{*t, Vec2(0.0f)};
             return std::nullopt;
         case PrimKind::Quad: {
             const Quad& q = quads_[i];
@@ -116,9 +117,12 @@ Hit Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
     Hit hit{h.t, prim, h.uv, Vec3(0.0f)};
     uint32_t i = local_[prim];
     switch (kind_[prim]) {
-        case PrimKind::Sphere:
-            hit.n = spheres_[i].normal(ray.o + h.t * ray.d);
+        case PrimKind::Sphere: {
+            Vec3 p = ray.o + h.t * ray.d;
+            hit.n = spheres_[i].normal(p);
+            hit.uv = spheres_[i].uv(p);
             break;
+        }
         case PrimKind::Quad: {
             const Quad& q = quads_[i];
             hit.n = triangleNormal(q.v[0], q.v[1], q.v[3]);

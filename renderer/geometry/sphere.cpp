@@ -4,7 +4,7 @@
 
 namespace caustic {
 
-std::optional<std::pair<float, Vec2>> Sphere::intersect(const Ray& ray, float tMax) const {
+std::optional<float> Sphere::intersect(const Ray& ray, float tMax) const {
     // Quadratic with the discriminant written as r^2 - |f + (b/a) d|^2, which keeps its precision
     // for rays far from a small sphere (Haines et al., Ray Tracing Gems, chapter 7).
     Vec3 f = ray.o - center;
@@ -19,11 +19,15 @@ std::optional<std::pair<float, Vec2>> Sphere::intersect(const Ray& ray, float tM
     if (t0 > t1) std::swap(t0, t1);
     float t = t0 > 0.0f ? t0 : t1;
     if (!(t > 0.0f && t < tMax)) return std::nullopt;
-    Vec3 p = glm::normalize(ray.o + t * ray.d - center);
+    return t;
+}
+
+Vec2 Sphere::uv(const Vec3& point) const {
+    Vec3 p = glm::normalize(point - center);
     float phi = std::atan2(p.y, p.x);
     if (phi < 0.0f) phi += 2.0f * kPi;
     float theta = std::acos(std::clamp(p.z, -1.0f, 1.0f));
-    return std::pair{t, Vec2(phi / (2.0f * kPi), theta / kPi)};
+    return Vec2(phi / (2.0f * kPi), theta / kPi);
 }
 
 void Sphere::hitPoint(const Ray& ray, float t, Vec3& p, Vec3& pError) const {

@@ -21,8 +21,10 @@ struct Sphere {
     }
     float area() const { return 4.0f * kPi * radius * radius; }
 
-    /// Nearest hit in (0, tMax), as t and uv. The outward normal is the front side.
-    std::optional<std::pair<float, Vec2>> intersect(const Ray& ray, float tMax) const;
+    /// Nearest hit distance in (0, tMax). The outward normal is the front side.
+    std::optional<float> intersect(const Ray& ray, float tMax) const;
+    /// Surface parameters (phi / 2pi, theta / pi) of a point on the sphere.
+    Vec2 uv(const Vec3& p) const;
     /// Unit outward normal at surface point p.
     Vec3 normal(const Vec3& p) const { return glm::normalize(p - center); }
     /// Hit point and its error bound from the ray and t, reprojected onto the surface.

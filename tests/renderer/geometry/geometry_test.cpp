@@ -12,10 +12,10 @@ TEST(Sphere, HitsFromOutsideAndInside) {
     Sphere s{Vec3(0, 0, -5), 1.0f};
     auto outside = s.intersect(Ray{Vec3(0), Vec3(0, 0, -1)}, kInfinity);
     ASSERT_TRUE(outside);
-    EXPECT_FLOAT_EQ(outside->first, 4.0f);
+    EXPECT_FLOAT_EQ(*outside, 4.0f);
     auto inside = s.intersect(Ray{Vec3(0, 0, -5), Vec3(1, 0, 0)}, kInfinity);
     ASSERT_TRUE(inside);
-    EXPECT_FLOAT_EQ(inside->first, 1.0f);
+    EXPECT_FLOAT_EQ(*inside, 1.0f);
     EXPECT_FALSE(s.intersect(Ray{Vec3(0), Vec3(0, 0, 1)}, kInfinity));
     EXPECT_FALSE(s.intersect(Ray{Vec3(0), Vec3(0, 0, -1)}, 3.9f));
 }
@@ -25,7 +25,7 @@ TEST(Sphere, SmallSphereFarAwayKeepsItsPrecision) {
     Sphere s{Vec3(0, 0, -1e4f), 1e-2f};
     auto hit = s.intersect(Ray{Vec3(0), Vec3(0, 0, -1)}, kInfinity);
     ASSERT_TRUE(hit);
-    EXPECT_NEAR(hit->first, 1e4f - 1e-2f, 1e-3f);
+    EXPECT_NEAR(*hit, 1e4f - 1e-2f, 1e-3f);
 }
 
 TEST(Quad, FrontFacesCrossOfEdgesAndUvSpansTheUnitSquare) {
