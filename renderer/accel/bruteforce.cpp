@@ -3,10 +3,11 @@
 namespace caustic {
 
 std::optional<Hit> BruteForceAccel::intersect(const Ray& ray, float tMax) const {
+    const WatertightRay wr(ray);
     std::optional<PrimHit> best;
     uint32_t bestPrim = 0;
     for (uint32_t prim = 0; prim < geometry_.size(); ++prim) {
-        if (auto h = geometry_.intersect(prim, ray, tMax)) {
+        if (auto h = geometry_.intersect(prim, wr, tMax)) {
             tMax = h->t;
             best = h;
             bestPrim = prim;
@@ -17,8 +18,9 @@ std::optional<Hit> BruteForceAccel::intersect(const Ray& ray, float tMax) const 
 }
 
 bool BruteForceAccel::occluded(const Ray& ray, float tMax) const {
+    const WatertightRay wr(ray);
     for (uint32_t prim = 0; prim < geometry_.size(); ++prim)
-        if (geometry_.intersect(prim, ray, tMax)) return true;
+        if (geometry_.intersect(prim, wr, tMax)) return true;
     return false;
 }
 

@@ -87,7 +87,9 @@ Bounds3 Geometry::bounds() const {
     return b;
 }
 
-std::optional<PrimHit> Geometry::intersect(uint32_t prim, const Ray& ray, float tMax) const {
+std::optional<PrimHit> Geometry::intersect(uint32_t prim, const WatertightRay& wr,
+                                           float tMax) const {
+    const Ray& ray = wr.ray;
     uint32_t i = local_[prim];
     switch (kind_[prim]) {
         case PrimKind::Sphere:
@@ -96,16 +98,16 @@ std::optional<PrimHit> Geometry::intersect(uint32_t prim, const Ray& ray, float 
             return std::nullopt;
         case PrimKind::Quad: {
             const Quad& q = quads_[i];
-            if (auto h = intersectTriangle(ray, tMax, q.v[0], q.v[1], q.v[3]))
+            if (auto h = intersectTriangle(wr, tMax, q.v[0], q.v[1], q.v[3]))
                 return PrimHit{h->t, quadUv(false, *h)};
-            if (auto h = intersectTriangle(ray, tMax, q.v[2], q.v[3], q.v[1]))
+            if (auto h = intersectTriangle(wr, tMax, q.v[2], q.v[3], q.v[1]))
                 return PrimHit{h->t, quadUv(true, *h)};
             return std::nullopt;
         }
         case PrimKind::Triangle: {
             Vec3 p0, p1, p2;
             triangleVertices(i, p0, p1, p2);
-            if (auto h = intersectTriangle(ray, tMax, p0, p1, p2))
+            if (auto h = intersectTriangle(wr, tMax, p0, p1, p2))
                 return PrimHit{h->t, Vec2(h->b1, h->b2)};
             return std::nullopt;
         }

@@ -48,7 +48,10 @@ public:
     Bounds3 bounds() const;
 
     /// Nearest hit of primitive `prim` in (0, tMax), without the normal. Thread-safe.
-    std::optional<PrimHit> intersect(uint32_t prim, const Ray& ray, float tMax) const;
+    std::optional<PrimHit> intersect(uint32_t prim, const WatertightRay& ray, float tMax) const;
+    std::optional<PrimHit> intersect(uint32_t prim, const Ray& ray, float tMax) const {
+        return intersect(prim, WatertightRay(ray), tMax);
+    }
     /// Completes a primitive hit with the primitive index and the front-side unit normal.
     Hit finish(uint32_t prim, const Ray& ray, const PrimHit& h) const;
     /// The surface at a hit: point from the surface parameters, its error bound, normal, material.

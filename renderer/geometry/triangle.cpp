@@ -43,20 +43,28 @@ std::optional<TriangleHit> decideNearOrigin(const Ray& ray, float tMax, const Ve
 
 }  // namespace
 
-std::optional<TriangleHit> intersectTriangle(const Ray& ray, float tMax, const Vec3& p0,
+WatertightRay::WatertightRay(const Ray& r) : ray(r) {
+    kz = maxDimension(glm::abs(r.d));
+    kx = kz + 1 == 3 ? 0 : kz + 1;
+    ky = kx + 1 == 3 ? 0 : kx + 1;
+    Vec3 d = permute(r.d, kx, ky, kz);
+    sx = -d.x / d.z;
+    sy = -d.y / d.z;
+    sz = 1.0f / d.z;
+}
+
+std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax, const Vec3& p0,
                                              const Vec3& p1, const Vec3& p2) {
     // Translate the vertices to the ray origin and permute so that the ray's largest direction
     // component is z.
-    int kz = maxDimension(glm::abs(ray.d));
-    int kx = kz + 1 == 3 ? 0 : kz + 1;
-    int ky = kx + 1 == 3 ? 0 : kx + 1;
-    Vec3 d = permute(ray.d, kx, ky, kz);
+    const Ray& ray = wr.ray;
+    const int kx = wr.kx, ky = wr.ky, kz = wr.kz;
     Vec3 p0t = permute(p0 - ray.o, kx, ky, kz);
     Vec3 p1t = permute(p1 - ray.o, kx, ky, kz);
     Vec3 p2t = permute(p2 - ray.o, kx, ky, kz);
 
     // Shear so that the ray runs along +z.
-    float sx = -d.x / d.z, sy = -d.y / d.z, sz = 1.0f / d.z;
+    const float sx = wr.sx, sy = wr.sy, sz = wr.sz;
     p0t.x += sx * p0t.z;
     p0t.y += sy * p0t.z;
     p1t.x += sx * p1t.z;

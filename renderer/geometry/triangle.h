@@ -13,10 +13,23 @@ struct TriangleHit {
     float t;
 };
 
+/// A ray with the per-ray part of the watertight test done once (Woop et al. 2013, section 3): the
+/// axis permutation that makes its largest direction component z, and the shear to +z.
+struct WatertightRay {
+    Ray ray;
+    int kx, ky, kz;
+    float sx, sy, sz;
+    explicit WatertightRay(const Ray& r);
+};
+
 /// Nearest hit of the ray with triangle (p0, p1, p2) in (0, tMax). Rays through shared edges and
 /// vertices hit exactly one of the triangles that share them; zero-area triangles are never hit.
-std::optional<TriangleHit> intersectTriangle(const Ray& ray, float tMax, const Vec3& p0,
+std::optional<TriangleHit> intersectTriangle(const WatertightRay& ray, float tMax, const Vec3& p0,
                                              const Vec3& p1, const Vec3& p2);
+inline std::optional<TriangleHit> intersectTriangle(const Ray& ray, float tMax, const Vec3& p0,
+                                                    const Vec3& p1, const Vec3& p2) {
+    return intersectTriangle(WatertightRay(ray), tMax, p0, p1, p2);
+}
 
 /// Interpolated point and its error bound (pbrt-v4, section 6.8.5: gamma(7) sum |b_i p_i|).
 inline void triangleHitPoint(const TriangleHit& h, const Vec3& p0, const Vec3& p1, const Vec3& p2,

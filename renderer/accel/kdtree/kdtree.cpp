@@ -30,6 +30,7 @@ template <bool AnyHit>
 bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimHit& best) const {
     if (nodes_.empty()) return false;
     Vec3 invDir = 1.0f / ray.d;
+    const WatertightRay wr(ray);
     float tMin = 0.0f, tEnd = tMax;
     if (!clipToBox(bounds_, ray, invDir, tMin, tEnd)) return false;
 
@@ -81,7 +82,7 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
         uint32_t count = node.primCount();
         const uint32_t* prims = count == 1 ? &node.onePrim : &primIndices_[node.primOffset];
         for (uint32_t i = 0; i < count; ++i) {
-            if (auto h = geometry_.intersect(prims[i], ray, closest)) {
+            if (auto h = geometry_.intersect(prims[i], wr, closest)) {
                 if constexpr (AnyHit) return true;
                 closest = h->t;
                 best = *h;
