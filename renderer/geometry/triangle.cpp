@@ -51,17 +51,21 @@ WatertightRay::WatertightRay(const Ray& r) : ray(r) {
     sx = -d.x / d.z;
     sy = -d.y / d.z;
     sz = 1.0f / d.z;
+    ox = r.o[kx];
+    oy = r.o[ky];
+    oz = r.o[kz];
 }
 
 std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax, const Vec3& p0,
                                              const Vec3& p1, const Vec3& p2) {
     // Translate the vertices to the ray origin and permute so that the ray's largest direction
     // component is z.
-    const Ray& ray = wr.ray;
+    // (Components are picked from memory by index: permuting a vector held in registers would
+    // spill it to the stack on every test.)
     const int kx = wr.kx, ky = wr.ky, kz = wr.kz;
-    Vec3 p0t = permute(p0 - ray.o, kx, ky, kz);
-    Vec3 p1t = permute(p1 - ray.o, kx, ky, kz);
-    Vec3 p2t = permute(p2 - ray.o, kx, ky, kz);
+    Vec3 p0t(p0[kx] - wr.ox, p0[ky] - wr.oy, p0[kz] - wr.oz);
+    Vec3 p1t(p1[kx] - wr.ox, p1[ky] - wr.oy, p1[kz] - wr.oz);
+    Vec3 p2t(p2[kx] - wr.ox, p2[ky] - wr.oy, p2[kz] - wr.oz);
 
     // Shear so that the ray runs along +z.
     const float sx = wr.sx, sy = wr.sy, sz = wr.sz;
@@ -90,21 +94,18 @@ std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax
     p1t.z *= sz;
     p2t.z *= sz;
     float tScaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
-    if (det < 0 && (tScaled >= 0 || tScaled < tMax * det)) return std::nullopt;
-    if (det > 0 && (tScaled <= 0 || tScaled > tMax * det)) return std::nullopt;
-
     float invDet = 1.0f / det;
     TriangleHit hit{e0 * invDet, e1 * invDet, e2 * invDet, tScaled * invDet};
 
-    // Reject hits whose t is not conservatively positive. t is a convex combination of the
-    // vertices' depths z_i (the barycentrics are non-negative here), so when every z_i exceeds its
-    // rounding error, t > 0 holds. Only otherwise use pbrt-v4's bound (section 6.8.7), which
-    // multiplies the edge functions' error by the depth and, for distant grazing rays, rejects hits
-    // far in front of the origin.
+    // Is t conservatively positive? t is a convex combination of the vertices' depths z_i (the
+    // barycentrics are non-negative here), so when every z_i exceeds its rounding error it is, and
+    // the float t is good enough to compare with tMax.
     float maxZt = maxComponent(glm::abs(Vec3(p0t.z, p1t.z, p2t.z)));
     float deltaZ = gamma(3) * maxZt;
     float minZt = std::min(p0t.z, std::min(p1t.z, p2t.z));
-    if (minZt > deltaZ) return hit;
+    if (minZt > deltaZ) return hit.t < tMax ? std::optional(hit) : std::nullopt;
+    // Otherwise pbrt-v4's bound on t's error (section 6.8.7). It multiplies the edge functions'
+    // error by the depth, so it is loose for large triangles and distant grazing rays.
     float maxXt = maxComponent(glm::abs(Vec3(p0t.x, p1t.x, p2t.x)));
     float maxYt = maxComponent(glm::abs(Vec3(p0t.y, p1t.y, p2t.y)));
     float deltaX = gamma(5) * (maxXt + maxZt);
@@ -113,8 +114,11 @@ std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax
     float maxE = maxComponent(glm::abs(Vec3(e0, e1, e2)));
     float deltaT =
         3.0f * (gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::abs(invDet);
-    if (hit.t > deltaT) return hit;
-    return decideNearOrigin(ray, tMax, p0, p1, p2, hit);
+    if (hit.t > deltaT) return hit.t < tMax ? std::optional(hit) : std::nullopt;
+    if (hit.t < -deltaT) return std::nullopt;
+    // Too close to the origin for the float bound: decide t, and compare it with tMax, in double,
+    // so that intersect() and occluded() agree on the same t.
+    return decideNearOrigin(wr.ray, tMax, p0, p1, p2, hit);
 }
 
 }  // namespace caustic

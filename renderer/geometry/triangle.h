@@ -19,6 +19,7 @@ struct WatertightRay {
     Ray ray;
     int kx, ky, kz;
     float sx, sy, sz;
+    float ox, oy, oz;  ///< The origin, permuted.
     explicit WatertightRay(const Ray& r);
 };
 
