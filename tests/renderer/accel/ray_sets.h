@@ -54,18 +54,17 @@ inline void addVertexAndEdgeRays(const Geometry& g, const Bounds3& b, size_t n, 
     }
 }
 
-/// Rays leaving the surface points that `rays` hit, offset as the integrators offset them, in
-/// random directions on either side.
+/// n rays leaving surface points that the rays already in `rays` hit (cycling through them, each
+/// time in a new random direction), offset as the integrators offset them.
 inline void addSurfaceRays(const Geometry& g, const Accelerator& accel, size_t n, Rng& rng,
                            std::vector<Ray>& rays) {
-    size_t source = rays.size();
-    for (size_t i = 0, added = 0; i < source && added < n; ++i) {
-        auto hit = accel.intersect(rays[i], kInfinity);
-        if (!hit) continue;
-        SurfaceInteraction si = g.interaction(rays[i], *hit);
+    std::vector<SurfaceInteraction> hits;
+    for (const Ray& ray : rays)
+        if (auto hit = accel.intersect(ray, kInfinity)) hits.push_back(g.interaction(ray, *hit));
+    for (size_t i = 0; i < n && !hits.empty(); ++i) {
+        const SurfaceInteraction& si = hits[i % hits.size()];
         Vec3 w = sampleUniformSphere(rng.uniform2());
         rays.push_back(Ray{offsetRayOrigin(si.p, si.pError, si.n, w), w});
-        ++added;
     }
 }
 
