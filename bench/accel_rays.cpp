@@ -3,7 +3,9 @@
 // OpenMP thread. kdtree and embree run side by side in one process, interleaved (A B A B), because
 // the machine is shared and noisy; read the ratios, not the seconds.
 #include <omp.h>
+
 #include <sched.h>
+#include "bench_common.h"
 
 #include <algorithm>
 #include <chrono>
@@ -26,6 +28,8 @@
 
 namespace {
 
+using namespace caustic::bench;
+
 using namespace caustic;
 
 constexpr const char* kUsage =
@@ -43,19 +47,6 @@ struct Options {
     size_t randomRays = 262144;  // random rays
     size_t bruteRays = 16384;    // at most this many rays per set for bruteforce
 };
-
-int parsePositive(const std::string& text, const std::string& what) {
-    size_t used = 0;
-    int v = 0;
-    try {
-        v = std::stoi(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || v <= 0)
-        throw std::invalid_argument(what + ": expected a positive integer, got \"" + text + "\"");
-    return v;
-}
 
 Options parseArgs(const std::vector<std::string>& args) {
     Options o;
@@ -93,46 +84,12 @@ Options parseArgs(const std::vector<std::string>& args) {
     return o;
 }
 
-std::string cpuModel() {
-    std::ifstream in("/proc/cpuinfo");
-    for (std::string line; std::getline(in, line);) {
-        if (line.rfind("model name", 0) != 0) continue;
-        size_t colon = line.find(':');
-        if (colon != std::string::npos)
-            return line.substr(line.find_first_not_of(" \t", colon + 1));
-    }
-    return "unknown CPU";
-}
-
 // CPUs this process may run on: what `nproc` prints when OMP_NUM_THREADS is unset.
-int onlineCpus() {
-    cpu_set_t set;
-    return sched_getaffinity(0, sizeof(set), &set) == 0 ? CPU_COUNT(&set) : 0;
-}
-
-std::string commandLine(int argc, char** argv) {
-    std::string cmd;
-    for (int i = 0; i < argc; ++i) {
-        const std::string a = argv[i];
-        const bool quote = a.empty() || a.find_first_of(" \t'\"$") != std::string::npos;
-        if (i) cmd += ' ';
-        if (quote) cmd += '\'';
-        cmd += a;
-        if (quote) cmd += '\'';
-    }
-    return cmd;
-}
 
 std::string fmt(const char* format, double v) {
     char buf[64];
     std::snprintf(buf, sizeof(buf), format, v);
     return buf;
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
@@ -446,21 +403,13 @@ void printTables(const std::vector<MeshResult>& results, const Options& opt, int
 }  // namespace
 
 int main(int argc, char** argv) {
-    Options opt;
-    const std::vector<std::string> args(argv + 1, argv + argc);
-    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
-        std::cout << kUsage;
-        return 0;
-    }
-    try {
-        opt = parseArgs(args);
-    } catch (const std::exception& e) {
-        std::cerr << "bench_accel_rays: " << e.what() << "\n" << kUsage;
-        return 2;
-    }
+    int exitCode = 0;
+    std::optional<Options> parsed =
+        parseOptions("bench_accel_rays", kUsage, argc, argv, parseArgs, exitCode);
+    if (!parsed) return exitCode;
+    const Options& opt = *parsed;
     const int allThreads = omp_get_max_threads();
-    std::cout << "Machine: nproc " << onlineCpus() << ", OpenMP threads " << allThreads << ", "
-              << cpuModel() << ". Command: `" << commandLine(argc, argv) << "`\n\n";
+    printMachine(argc, argv);
 
     std::vector<MeshResult> results;
     try {

@@ -3,7 +3,9 @@
 // all, 1, all, ...) because the machine is shared and noisy; medians, mins and ratios are reported
 // beside the seed's published figures.
 #include <omp.h>
+
 #include <sched.h>
+#include "bench_common.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -20,6 +22,8 @@
 #include "scene/scene.h"
 
 namespace {
+
+using namespace caustic::bench;
 
 using caustic::RenderStats;
 
@@ -57,19 +61,6 @@ struct Options {
     std::string accelerator = defaultAccelerator();
     std::vector<int> sizes = {500, 1000, 1500};
 };
-
-int parsePositive(const std::string& text, const std::string& what) {
-    size_t used = 0;
-    int v = 0;
-    try {
-        v = std::stoi(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || v <= 0)
-        throw std::invalid_argument(what + ": expected a positive integer, got \"" + text + "\"");
-    return v;
-}
 
 Options parseArgs(const std::vector<std::string>& args) {
     Options o;
@@ -110,43 +101,12 @@ Options parseArgs(const std::vector<std::string>& args) {
     return o;
 }
 
-std::string cpuModel() {
-    std::ifstream in("/proc/cpuinfo");
-    for (std::string line; std::getline(in, line);) {
-        if (line.rfind("model name", 0) != 0) continue;
-        size_t colon = line.find(':');
-        if (colon != std::string::npos)
-            return line.substr(line.find_first_not_of(" \t", colon + 1));
-    }
-    return "unknown CPU";
-}
-
 // CPUs this process may run on: what `nproc` prints when OMP_NUM_THREADS is unset.
-int onlineCpus() {
-    cpu_set_t set;
-    return sched_getaffinity(0, sizeof(set), &set) == 0 ? CPU_COUNT(&set) : 0;
-}
-
-std::string commandLine(int argc, char** argv) {
-    std::string cmd;
-    for (int i = 0; i < argc; ++i) {
-        std::string a = argv[i];
-        bool quote = a.empty() || a.find_first_of(" \t'\"$") != std::string::npos;
-        cmd += (i ? " " : "") + (quote ? "'" + a + "'" : a);
-    }
-    return cmd;
-}
 
 std::string fmt(const char* format, double v) {
     char buf[64];
     std::snprintf(buf, sizeof(buf), format, v);
     return buf;
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 double minimum(const std::vector<double>& v) {
@@ -177,21 +137,13 @@ struct SizeResult {
 }  // namespace
 
 int main(int argc, char** argv) {
-    Options opt;
-    const std::vector<std::string> args(argv + 1, argv + argc);
-    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
-        std::cout << kUsage;
-        return 0;
-    }
-    try {
-        opt = parseArgs(args);
-    } catch (const std::exception& e) {
-        std::cerr << "bench_raycast_scaling: " << e.what() << "\n" << kUsage;
-        return 2;
-    }
+    int exitCode = 0;
+    std::optional<Options> parsed =
+        parseOptions("bench_raycast_scaling", kUsage, argc, argv, parseArgs, exitCode);
+    if (!parsed) return exitCode;
+    const Options& opt = *parsed;
     const int allThreads = omp_get_max_threads();
-    std::cout << "Machine: nproc " << onlineCpus() << ", OpenMP threads " << allThreads << ", "
-              << cpuModel() << ". Command: `" << commandLine(argc, argv) << "`\n\n";
+    printMachine(argc, argv);
 
     std::vector<SizeResult> results;
     try {

@@ -109,15 +109,23 @@ void EmbreeAccel::addTriangles() {
     for (size_t i = 0; i < triangles.size(); ++i)
         for (int c = 0; c < 3; ++c) idx[3 * i + size_t(c)] = triangles[i][c];
     bufferBytes_ += positions.size() * 12 + triangles.size() * 12;
-    std::vector<uint32_t> prims(triangles.size());
+    attach(g, primsOfKind(PrimKind::Triangle, triangles.size()), "adding triangles");
+}
+
+std::vector<uint32_t> EmbreeAccel::primsOfKind(PrimKind kind, size_t count) const {
+    std::vector<uint32_t> prims(count);
     for (uint32_t prim = 0; prim < geometry_.size(); ++prim)
-        if (geometry_.kind(prim) == PrimKind::Triangle) prims[geometry_.localIndex(prim)] = prim;
+        if (geometry_.kind(prim) == kind) prims[geometry_.localIndex(prim)] = prim;
+    return prims;
+}
+
+void EmbreeAccel::attach(RTCGeometry g, std::vector<uint32_t> prims, const char* what) {
     rtcCommitGeometry(g);
     unsigned id = rtcAttachGeometry(scene_.get(), g);
     rtcReleaseGeometry(g);
     primsByGeometry_.resize(id + 1);
     primsByGeometry_[id] = std::move(prims);
-    throwIfError("adding triangles");
+    throwIfError(what);
 }
 
 void EmbreeAccel::addQuads() {
@@ -135,36 +143,20 @@ void EmbreeAccel::addQuads() {
         }
     }
     bufferBytes_ += quads.size() * (48 + 16);
-    std::vector<uint32_t> prims(quads.size());
-    for (uint32_t prim = 0; prim < geometry_.size(); ++prim)
-        if (geometry_.kind(prim) == PrimKind::Quad) prims[geometry_.localIndex(prim)] = prim;
-    rtcCommitGeometry(g);
-    unsigned id = rtcAttachGeometry(scene_.get(), g);
-    rtcReleaseGeometry(g);
-    primsByGeometry_.resize(id + 1);
-    primsByGeometry_[id] = std::move(prims);
-    throwIfError("adding quads");
+    attach(g, primsOfKind(PrimKind::Quad, quads.size()), "adding quads");
 }
 
 void EmbreeAccel::addSpheres() {
     const auto& spheres = geometry_.spheres();
     if (spheres.empty()) return;
-    spherePrims_.resize(spheres.size());
-    for (uint32_t prim = 0; prim < geometry_.size(); ++prim)
-        if (geometry_.kind(prim) == PrimKind::Sphere)
-            spherePrims_[geometry_.localIndex(prim)] = prim;
+    spherePrims_ = primsOfKind(PrimKind::Sphere, spheres.size());
     RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(g, unsigned(spheres.size()));
     rtcSetGeometryUserData(g, const_cast<EmbreeAccel*>(this));
     rtcSetGeometryBoundsFunction(g, sphereBounds, const_cast<EmbreeAccel*>(this));
     rtcSetGeometryIntersectFunction(g, sphereIntersect);
     rtcSetGeometryOccludedFunction(g, sphereOccluded);
-    rtcCommitGeometry(g);
-    unsigned id = rtcAttachGeometry(scene_.get(), g);
-    rtcReleaseGeometry(g);
-    primsByGeometry_.resize(id + 1);
-    primsByGeometry_[id] = spherePrims_;
-    throwIfError("adding spheres");
+    attach(g, spherePrims_, "adding spheres");
 }
 
 uint32_t EmbreeAccel::primOf(unsigned geomID, unsigned primID) const {

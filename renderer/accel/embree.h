@@ -40,6 +40,10 @@ private:
     void addQuads();
     void addSpheres();
     void throwIfError(const char* what) const;
+    /// The scene primitive index of each primitive of one kind, by its index within that kind.
+    std::vector<uint32_t> primsOfKind(PrimKind kind, size_t count) const;
+    /// Commits and attaches a geometry whose primitives are `prims`, and releases our reference.
+    void attach(RTCGeometry g, std::vector<uint32_t> prims, const char* what);
     uint32_t primOf(unsigned geomID, unsigned primID) const;
 
     const Geometry& geometry_;

@@ -73,11 +73,16 @@ double readDouble(const Json& j, const std::string& path) {
     return v;
 }
 
-DVec3 readDVec3(const Json& j, const std::string& path) {
+// Throws unless j is an array of exactly three elements.
+static void requireTriple(const Json& j, const std::string& path) {
     if (!j.is_array() || j.size() != 3)
         throw InputError(
             path, "expected an array of 3 numbers, got " +
                       (j.is_array() ? "an array of " + std::to_string(j.size()) : jsonTypeName(j)));
+}
+
+DVec3 readDVec3(const Json& j, const std::string& path) {
+    requireTriple(j, path);
     return DVec3(readDouble(j[0], jsonPointer(path, 0)), readDouble(j[1], jsonPointer(path, 1)),
                  readDouble(j[2], jsonPointer(path, 2)));
 }
@@ -106,10 +111,7 @@ int64_t readInteger(const Json& j, const std::string& path) {
 }
 
 Vec3 readVec3(const Json& j, const std::string& path) {
-    if (!j.is_array() || j.size() != 3)
-        throw InputError(
-            path, "expected an array of 3 numbers, got " +
-                      (j.is_array() ? "an array of " + std::to_string(j.size()) : jsonTypeName(j)));
+    requireTriple(j, path);
     return Vec3(readNumber(j[0], jsonPointer(path, 0)), readNumber(j[1], jsonPointer(path, 1)),
                 readNumber(j[2], jsonPointer(path, 2)));
 }

@@ -1,5 +1,4 @@
-// Scene loading: every kind of bad scene is an InputError with the exact JSON path and message;
-// the example scenes load with the expected primitives, lights, materials and defaults.
+// Scene loading: every kind of bad scene is an InputError with the exact JSON path and message.
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,6 +16,7 @@
 #include "lights/point_light.h"
 #include "materials/dielectric.h"
 #include "materials/diffuse.h"
+#include "renderer/scene/base_scene.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 #include "support/test_scenes.h"
@@ -24,33 +24,10 @@
 namespace caustic {
 namespace {
 
+using testing::baseScene;
+using testing::patched;
 using testing::repoSceneOptions;
-
-// A small valid scene that each case breaks in one place.
-Json baseScene() {
-    return Json::parse(R"({
-        "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
-        "materials": {
-            "white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]},
-            "glass": {"type": "dielectric"}
-        },
-        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "white"}]
-    })");
-}
-
-// The base scene with the value at a JSON pointer set (or added), or removed.
-Json patched(const std::string& pointer, const Json& value) {
-    Json doc = baseScene();
-    doc[Json::json_pointer(pointer)] = value;
-    return doc;
-}
-
-Json without(const std::string& pointer) {
-    Json::json_pointer p(pointer);
-    Json doc = baseScene();
-    doc[p.parent_pointer()].erase(p.back());
-    return doc;
-}
+using testing::without;
 
 Json withShape(const Json& shape) {
     Json doc = baseScene();
@@ -465,136 +442,6 @@ TEST(SceneLoaderErrors, MissingSceneFile) {
         EXPECT_EQ(e.path(), "");
         EXPECT_EQ(e.message(), "cannot open " + file);
     }
-}
-
-// --- good scenes ---
-
-size_t countKind(const Geometry& g, PrimKind kind) {
-    size_t n = 0;
-    for (uint32_t p = 0; p < g.size(); ++p) n += g.kind(p) == kind;
-    return n;
-}
-
-size_t countAreaLights(const Scene& scene) {
-    size_t n = 0;
-    for (const auto& light : scene.lights)
-        n += dynamic_cast<const AreaLight*>(light.get()) != nullptr;
-    return n;
-}
-
-std::vector<std::string> sorted(std::vector<std::string> v) {
-    std::sort(v.begin(), v.end());
-    return v;
-}
-
-TEST(SceneLoaderExamples, CornellSpheres) {
-    auto scene = loadScene(testing::exampleScene("cornell-spheres"), repoSceneOptions());
-    EXPECT_EQ(countKind(scene->geometry, PrimKind::Quad), 6u);
-    EXPECT_EQ(countKind(scene->geometry, PrimKind::Sphere), 2u);
-    EXPECT_EQ(countKind(scene->geometry, PrimKind::Triangle), 0u);
-    ASSERT_EQ(scene->lights.size(), 1u);
-    EXPECT_EQ(countAreaLights(*scene), 1u);
-    EXPECT_EQ(sorted(scene->materialNames),
-              (std::vector<std::string>{"glass", "green", "lamp", "mirror", "red", "white"}));
-    EXPECT_EQ(scene->materials.size(), scene->materialNames.size());
-    EXPECT_EQ(scene->camera.width(), 512);
-    EXPECT_EQ(scene->camera.height(), 512);
-    EXPECT_EQ(scene->settings, (Json{{"spp", 64}}));
-    EXPECT_EQ(scene->background, Color(0.0f));
-    // The glass sphere is the last primitive: a dielectric of IOR 1.5.
-    const auto* glass =
-        dynamic_cast<const Dielectric*>(&scene->material(scene->geometry.size() - 1));
-    ASSERT_NE(glass, nullptr);
-    EXPECT_FLOAT_EQ(glass->ior(), 1.5f);
-}
-
-TEST(SceneLoaderExamples, CornellBox) {
-    auto scene = loadScene(testing::exampleScene("cornell-box"), repoSceneOptions());
-    EXPECT_EQ(scene->geometry.size(), 18u);
-    EXPECT_EQ(countKind(scene->geometry, PrimKind::Quad), 18u);
-    ASSERT_EQ(scene->lights.size(), 1u);
-    EXPECT_EQ(countAreaLights(*scene), 1u);
-    EXPECT_EQ(sorted(scene->materialNames),
-              (std::vector<std::string>{"green", "lamp", "red", "white"}));
-}
-
-TEST(SceneLoaderExamples, Bunny) {
-    auto scene = loadScene(testing::exampleScene("bunny"), repoSceneOptions());
-    EXPECT_EQ(countKind(scene->geometry, PrimKind::Triangle), 69451u);
-    EXPECT_EQ(countKind(scene->geometry, PrimKind::Quad), 6u);
-    EXPECT_EQ(scene->geometry.size(), 69451u + 6u);
-    ASSERT_EQ(scene->lights.size(), 1u);
-    EXPECT_EQ(countAreaLights(*scene), 1u);
-    EXPECT_EQ(sorted(scene->materialNames),
-              (std::vector<std::string>{"green", "lamp", "red", "white"}));
-    // The bunny (scale 8, translated to y = -1.265) stands on the floor of the box.
-    Bounds3 b;
-    for (uint32_t p = 0; p < scene->geometry.size(); ++p)
-        if (scene->geometry.kind(p) == PrimKind::Triangle) b.extend(scene->geometry.bounds(p));
-    EXPECT_NEAR(b.lo.y, -1.0f, 0.05f);
-    EXPECT_LT(b.hi.y, 0.5f);
-}
-
-TEST(SceneLoaderDefaults, CameraDefaults) {
-    auto scene = loadScene(baseScene(), repoSceneOptions());
-    EXPECT_EQ(scene->camera.width(), 512);
-    EXPECT_EQ(scene->camera.height(), 512);
-    // Default up is +y: the image's top-centre ray points up and forward.
-    Ray top = scene->camera.generateRay(256.0f, 0.0f);
-    EXPECT_GT(top.d.y, 0.0f);
-    EXPECT_NEAR(top.d.x, 0.0f, 1e-6f);
-    // Default fov is 40 degrees: the top-centre ray is 20 degrees above the axis.
-    float degrees = std::atan2(top.d.y, -top.d.z) * 180.0f / kPi;
-    EXPECT_NEAR(degrees, 20.0f, 1e-3f);
-    EXPECT_EQ(scene->background, Color(0.0f));
-    EXPECT_TRUE(scene->settings.is_object());
-    EXPECT_TRUE(scene->settings.empty());
-    EXPECT_TRUE(scene->lights.empty());
-}
-
-TEST(SceneLoaderDefaults, IntegralFloatResolutionIsAccepted) {
-    Json doc = baseScene();
-    doc["camera"]["width"] = 320.0;
-    doc["camera"]["height"] = 240;
-    auto scene = loadScene(doc, repoSceneOptions());
-    EXPECT_EQ(scene->camera.width(), 320);
-    EXPECT_EQ(scene->camera.height(), 240);
-}
-
-TEST(SceneLoaderDefaults, MaterialDefaults) {
-    Json doc = baseScene();
-    doc["materials"]["plain"] = {{"type", "diffuse"}};
-    doc["shapes"].push_back(
-        {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "glass"}});
-    doc["shapes"].push_back(
-        {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "plain"}});
-    auto scene = loadScene(doc, repoSceneOptions());
-    const auto* glass = dynamic_cast<const Dielectric*>(&scene->material(1));
-    ASSERT_NE(glass, nullptr);
-    EXPECT_FLOAT_EQ(glass->ior(), 1.5f);
-    EXPECT_FALSE(glass->isEmissive());
-    const auto* plain = dynamic_cast<const Diffuse*>(&scene->material(2));
-    ASSERT_NE(plain, nullptr);
-    EXPECT_EQ(plain->albedo(), Color(0.8f));
-}
-
-TEST(SceneLoaderDefaults, PointLightsAndEmittersBecomeLights) {
-    Json doc = baseScene();
-    doc["materials"]["lamp"] = {{"type", "diffuse"}, {"emission", {1, 1, 1}}};
-    doc["shapes"].push_back({{"type", "triangle"},
-                             {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}},
-                             {"material", "lamp"}});
-    doc["lights"] = {{{"type", "point"}, {"position", {0, 2, 0}}, {"intensity", {5, 5, 5}}}};
-    auto scene = loadScene(doc, repoSceneOptions());
-    ASSERT_EQ(scene->lights.size(), 2u);
-    const auto* point = dynamic_cast<const PointLight*>(scene->lights[0].get());
-    ASSERT_NE(point, nullptr);
-    // Positions are stored relative to the camera.
-    Vec3 camera = readVec3(doc["camera"]["position"], "/camera/position");
-    EXPECT_EQ(point->position(), Vec3(0, 2, 0) - camera);
-    const auto* area = dynamic_cast<const AreaLight*>(scene->lights[1].get());
-    ASSERT_NE(area, nullptr);
-    EXPECT_EQ(area->prim(), 1u);
 }
 
 }  // namespace

@@ -1,0 +1,93 @@
+// Helpers shared by the benchmark programs: argument parsing, the machine line, statistics.
+#pragma once
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace caustic::bench {
+
+inline int parsePositive(const std::string& text, const std::string& what) {
+    size_t used = 0;
+    int v = 0;
+    try {
+        v = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || v <= 0)
+        throw std::invalid_argument(what + ": expected a positive integer, got \"" + text + "\"");
+    return v;
+}
+
+inline std::string cpuModel() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("model name", 0) != 0) continue;
+        size_t colon = line.find(':');
+        if (colon != std::string::npos)
+            return line.substr(line.find_first_not_of(" \t", colon + 1));
+    }
+    return "unknown CPU";
+}
+
+inline int onlineCpus() {
+    cpu_set_t set;
+    return sched_getaffinity(0, sizeof(set), &set) == 0 ? CPU_COUNT(&set) : 0;
+}
+
+inline std::string commandLine(int argc, char** argv) {
+    std::string cmd;
+    for (int i = 0; i < argc; ++i) {
+        std::string a = argv[i];
+        bool quote = a.empty() || a.find_first_of(" \t'\"$") != std::string::npos;
+        if (i > 0) cmd += ' ';
+        if (quote) cmd += '\'';
+        cmd += a;
+        if (quote) cmd += '\'';
+    }
+    return cmd;
+}
+
+inline double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// Parses the arguments with `parse`: prints `usage` for --help (exit code 0) or after an error
+/// (exit code 2), and then returns nullopt.
+template <class Options>
+std::optional<Options> parseOptions(const char* program, const char* usage, int argc, char** argv,
+                                    Options (*parse)(const std::vector<std::string>&),
+                                    int& exitCode) {
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
+        std::cout << usage;
+        exitCode = 0;
+        return std::nullopt;
+    }
+    try {
+        return parse(args);
+    } catch (const std::exception& e) {
+        std::cerr << program << ": " << e.what() << "\n" << usage;
+        exitCode = 2;
+        return std::nullopt;
+    }
+}
+
+/// The first line of every benchmark's output: the machine and the exact command.
+inline void printMachine(int argc, char** argv) {
+    std::cout << "Machine: nproc " << onlineCpus() << ", OpenMP threads " << omp_get_max_threads()
+              << ", " << cpuModel() << ". Command: `" << commandLine(argc, argv) << "`\n\n";
+}
+
+}  // namespace caustic::bench
