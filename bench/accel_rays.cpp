@@ -51,30 +51,15 @@ struct Options {
 Options parseArgs(const std::vector<std::string>& args) {
     Options o;
     bool smoke = false;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
-            return args[++i];
-        };
-        if (a == "--repeats") {
-            o.repeats = parsePositive(value(), a);
-        } else if (a == "--meshes") {
-            o.meshes.clear();
-            std::stringstream list(value());
-            for (std::string item; std::getline(list, item, ',');) {
-                if (std::find(kMeshNames.begin(), kMeshNames.end(), item) == kMeshNames.end())
-                    throw std::invalid_argument("--meshes: unknown mesh \"" + item +
-                                                "\" (valid: bunny, teapot, bunny-1m)");
-                o.meshes.push_back(item);
-            }
-            if (o.meshes.empty()) throw std::invalid_argument("--meshes: empty list");
-        } else if (a == "--smoke") {
-            smoke = true;
-        } else {
-            throw std::invalid_argument("unknown option \"" + a + "\"");
-        }
-    }
+    forEachOption(args, o.repeats, smoke, [&](const std::string& a, auto value) {
+        if (a != "--meshes") return false;
+        o.meshes = splitList(value(), a);
+        for (const std::string& item : o.meshes)
+            if (std::find(kMeshNames.begin(), kMeshNames.end(), item) == kMeshNames.end())
+                throw std::invalid_argument("--meshes: unknown mesh \"" + item +
+                                            "\" (valid: bunny, teapot, bunny-1m)");
+        return true;
+    });
     if (smoke) {
         o.repeats = 1;
         o.meshes = {"teapot"};
@@ -405,11 +390,10 @@ void printTables(const std::vector<MeshResult>& results, const Options& opt, int
 int main(int argc, char** argv) {
     int exitCode = 0;
     std::optional<Options> parsed =
-        parseOptions("bench_accel_rays", kUsage, argc, argv, parseArgs, exitCode);
+        startBenchmark("bench_accel_rays", kUsage, argc, argv, parseArgs, exitCode);
     if (!parsed) return exitCode;
     const Options& opt = *parsed;
     const int allThreads = omp_get_max_threads();
-    printMachine(argc, argv);
 
     std::vector<MeshResult> results;
     try {

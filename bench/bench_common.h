@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -63,12 +64,45 @@ inline double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-/// Parses the arguments with `parse`: prints `usage` for --help (exit code 0) or after an error
-/// (exit code 2), and then returns nullopt.
+/// The first line of every benchmark's output: the machine and the exact command.
+inline void printMachine(int argc, char** argv);
+
+/// Calls handle(option, value) for every option in `args`; value() consumes and returns the
+/// option's argument, or throws when there is none. Also handles --repeats and --smoke, the
+/// options every benchmark has.
+template <class Handle>
+void forEachOption(const std::vector<std::string>& args, int& repeats, bool& smoke, Handle handle) {
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&]() -> const std::string& {
+            if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
+            return args[++i];
+        };
+        if (a == "--repeats")
+            repeats = parsePositive(value(), a);
+        else if (a == "--smoke")
+            smoke = true;
+        else if (!handle(a, value))
+            throw std::invalid_argument("unknown option \"" + a + "\"");
+    }
+}
+
+/// The items of a comma-separated list; throws for an empty list.
+inline std::vector<std::string> splitList(const std::string& text, const std::string& option) {
+    std::vector<std::string> items;
+    std::stringstream list(text);
+    for (std::string item; std::getline(list, item, ',');) items.push_back(item);
+    if (items.empty()) throw std::invalid_argument(option + ": empty list");
+    return items;
+}
+
+/// Starts a benchmark: parses the arguments with `parse` and prints the machine line. For --help it
+/// prints `usage` (exit code 0), after an error the message and `usage` (exit code 2), and then
+/// returns nullopt.
 template <class Options>
-std::optional<Options> parseOptions(const char* program, const char* usage, int argc, char** argv,
-                                    Options (*parse)(const std::vector<std::string>&),
-                                    int& exitCode) {
+std::optional<Options> startBenchmark(const char* program, const char* usage, int argc, char** argv,
+                                      Options (*parse)(const std::vector<std::string>&),
+                                      int& exitCode) {
     const std::vector<std::string> args(argv + 1, argv + argc);
     if (std::find(args.begin(), args.end(), "--help") != args.end()) {
         std::cout << usage;
@@ -76,7 +110,9 @@ std::optional<Options> parseOptions(const char* program, const char* usage, int 
         return std::nullopt;
     }
     try {
-        return parse(args);
+        Options options = parse(args);
+        printMachine(argc, argv);
+        return options;
     } catch (const std::exception& e) {
         std::cerr << program << ": " << e.what() << "\n" << usage;
         exitCode = 2;
@@ -84,7 +120,6 @@ std::optional<Options> parseOptions(const char* program, const char* usage, int 
     }
 }
 
-/// The first line of every benchmark's output: the machine and the exact command.
 inline void printMachine(int argc, char** argv) {
     std::cout << "Machine: nproc " << onlineCpus() << ", OpenMP threads " << omp_get_max_threads()
               << ", " << cpuModel() << ". Command: `" << commandLine(argc, argv) << "`\n\n";

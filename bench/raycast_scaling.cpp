@@ -65,28 +65,18 @@ struct Options {
 Options parseArgs(const std::vector<std::string>& args) {
     Options o;
     bool smoke = false;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
-            return args[++i];
-        };
-        if (a == "--repeats") {
-            o.repeats = parsePositive(value(), a);
-        } else if (a == "--accelerator") {
+    forEachOption(args, o.repeats, smoke, [&](const std::string& a, auto value) {
+        if (a == "--accelerator") {
             o.accelerator = value();
         } else if (a == "--sizes") {
             o.sizes.clear();
-            std::stringstream list(value());
-            for (std::string item; std::getline(list, item, ',');)
+            for (const std::string& item : splitList(value(), a))
                 o.sizes.push_back(parsePositive(item, a));
-            if (o.sizes.empty()) throw std::invalid_argument("--sizes: empty list");
-        } else if (a == "--smoke") {
-            smoke = true;
         } else {
-            throw std::invalid_argument("unknown option \"" + a + "\"");
+            return false;
         }
-    }
+        return true;
+    });
     if (smoke) {
         o.repeats = 1;
         o.sizes = {64};
@@ -139,11 +129,10 @@ struct SizeResult {
 int main(int argc, char** argv) {
     int exitCode = 0;
     std::optional<Options> parsed =
-        parseOptions("bench_raycast_scaling", kUsage, argc, argv, parseArgs, exitCode);
+        startBenchmark("bench_raycast_scaling", kUsage, argc, argv, parseArgs, exitCode);
     if (!parsed) return exitCode;
     const Options& opt = *parsed;
     const int allThreads = omp_get_max_threads();
-    printMachine(argc, argv);
 
     std::vector<SizeResult> results;
     try {

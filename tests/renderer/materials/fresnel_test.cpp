@@ -259,45 +259,52 @@ std::vector<double> refractCosines() {
     return cosines;
 }
 
+// Calls visit(wi, cosI) for every direction of the refraction grid, from both sides.
+template <class Visit>
+void forEachIncidence(Visit visit) {
+    for (double c : refractCosines()) {
+        for (double side : {1.0, -1.0}) {
+            const Vec3 wi = directionAt(side * c);
+            visit(wi, glm::dot(kNormal, wi));
+        }
+    }
+}
+
 }  // namespace
 
 TEST(Refract, SnellUnitLengthCoplanarOppositeSide) {
     for (float eta : {1.0001f, 1.33f, 1.5f, 2.4f, 4.0f, 10.0f}) {
-        for (double c : refractCosines()) {
-            for (double side : {1.0, -1.0}) {
-                const Vec3 wi = directionAt(side * c);
-                const float cosI = glm::dot(kNormal, wi);
-                float etaPath = 0.0f;
-                Vec3 wt;
-                if (!refract(wi, kNormal, eta, etaPath, wt)) continue;  // TIR: see below.
-                EXPECT_EQ(etaPath, cosI < 0.0f ? 1.0f / eta : eta);
-                const DVec3 n(kNormal), i(wi), t(wt);
-                // A float unit vector: |length - 1| within a few ulps.
-                EXPECT_NEAR(glm::length(t), 1.0, 1e-6) << "cos " << cosI << " eta " << eta;
-                // Snell: sin i = etaPath sin t. refract forms cos^2 t with an error of a few ulps
-                // of max(1, 1 / etaPath^2) (the same model as fresnelTolerance: 8 ulps), and
-                // normalizing wt turns that into a relative error of half as much in sin t; 16
-                // ulps more for the rest. At etaPath = 0.1 (eta 10, from inside) that is 5e-5;
-                // for etaPath >= 1, 2.4e-6. Plus an absolute floor for near-normal incidence,
-                // where both sines are at rounding level: wt's components are off by a few ulps
-                // of max(1, 1 / etaPath), which Snell multiplies by etaPath.
-                const double sinI = glm::length(glm::cross(i, n)) / glm::length(i);
-                const double sinT = glm::length(glm::cross(t, n)) / glm::length(t);
-                const double relative =
-                    16.0 * kEps + 4.0 * kEps * std::max(1.0, 1.0 / (double(etaPath) * etaPath));
-                const double floor = 8.0 * kEps * std::max(1.0f, etaPath);
-                EXPECT_NEAR(sinI, etaPath * sinT, relative * sinI + floor)
-                    << "cos " << cosI << " eta " << eta;
-                // Coplanar: wt has no component along wi x n (rounding-level, a few ulps).
-                EXPECT_NEAR(glm::dot(t, glm::cross(i, n)), 0.0, 1e-6);
-                // Opposite side of the interface from wi.
-                if (cosI >= 0.0f) {
-                    EXPECT_LT(glm::dot(t, n), 0.0) << "cos " << cosI << " eta " << eta;
-                } else {
-                    EXPECT_GT(glm::dot(t, n), 0.0) << "cos " << cosI << " eta " << eta;
-                }
+        forEachIncidence([&](const Vec3& wi, float cosI) {
+            float etaPath = 0.0f;
+            Vec3 wt;
+            if (!refract(wi, kNormal, eta, etaPath, wt)) return;  // TIR: see below.
+            EXPECT_EQ(etaPath, cosI < 0.0f ? 1.0f / eta : eta);
+            const DVec3 n(kNormal), i(wi), t(wt);
+            // A float unit vector: |length - 1| within a few ulps.
+            EXPECT_NEAR(glm::length(t), 1.0, 1e-6) << "cos " << cosI << " eta " << eta;
+            // Snell: sin i = etaPath sin t. refract forms cos^2 t with an error of a few ulps
+            // of max(1, 1 / etaPath^2) (the same model as fresnelTolerance: 8 ulps), and
+            // normalizing wt turns that into a relative error of half as much in sin t; 16
+            // ulps more for the rest. At etaPath = 0.1 (eta 10, from inside) that is 5e-5;
+            // for etaPath >= 1, 2.4e-6. Plus an absolute floor for near-normal incidence,
+            // where both sines are at rounding level: wt's components are off by a few ulps
+            // of max(1, 1 / etaPath), which Snell multiplies by etaPath.
+            const double sinI = glm::length(glm::cross(i, n)) / glm::length(i);
+            const double sinT = glm::length(glm::cross(t, n)) / glm::length(t);
+            const double relative =
+                16.0 * kEps + 4.0 * kEps * std::max(1.0, 1.0 / (double(etaPath) * etaPath));
+            const double floor = 8.0 * kEps * std::max(1.0f, etaPath);
+            EXPECT_NEAR(sinI, etaPath * sinT, relative * sinI + floor)
+                << "cos " << cosI << " eta " << eta;
+            // Coplanar: wt has no component along wi x n (rounding-level, a few ulps).
+            EXPECT_NEAR(glm::dot(t, glm::cross(i, n)), 0.0, 1e-6);
+            // Opposite side of the interface from wi.
+            if (cosI >= 0.0f) {
+                EXPECT_LT(glm::dot(t, n), 0.0) << "cos " << cosI << " eta " << eta;
+            } else {
+                EXPECT_GT(glm::dot(t, n), 0.0) << "cos " << cosI << " eta " << eta;
             }
-        }
+        });
     }
 }
 
@@ -328,28 +335,24 @@ TEST(Refract, FailsExactlyUnderTotalInternalReflection) {
     // (R could in principle round to 1 a hair inside the critical angle, where 1 - R ~ 4 cos t /
     // cos i falls below an ulp; no point of this grid is that close, so agreement is strict.)
     for (float eta : {1.0001f, 1.1f, 1.33f, 1.5f, 2.4f, 4.0f, 10.0f}) {
-        for (double c : refractCosines()) {
-            for (double side : {1.0, -1.0}) {
-                const Vec3 wi = directionAt(side * c);
-                const float cosI = glm::dot(kNormal, wi);
-                float etaPath = 0.0f;
-                Vec3 wt;
-                const bool ok = refract(wi, kNormal, eta, etaPath, wt);
-                const float r = fresnelDielectric(cosI, eta);
-                if (!ok) {
-                    EXPECT_EQ(r, 1.0f) << "cos " << cosI << " eta " << eta;
-                } else {
-                    EXPECT_LT(r, 1.0f) << "cos " << cosI << " eta " << eta;
-                }
-                // Where exact arithmetic decides beyond float rounding (cos^2 t further from 0
-                // than the 8 ulps of max(1, 1/eta'^2) of fresnelTolerance), the decision agrees.
-                const double etaI = cosI < 0.0f ? 1.0 / eta : eta;
-                const double sin2T = (1.0 - double(cosI) * cosI) / (etaI * etaI);
-                if (std::abs(sin2T - 1.0) > 8.0 * kEps * std::max(1.0, 1.0 / (etaI * etaI))) {
-                    EXPECT_EQ(ok, sin2T < 1.0) << "cos " << cosI << " eta " << eta;
-                }
+        forEachIncidence([&](const Vec3& wi, float cosI) {
+            float etaPath = 0.0f;
+            Vec3 wt;
+            const bool ok = refract(wi, kNormal, eta, etaPath, wt);
+            const float r = fresnelDielectric(cosI, eta);
+            if (!ok) {
+                EXPECT_EQ(r, 1.0f) << "cos " << cosI << " eta " << eta;
+            } else {
+                EXPECT_LT(r, 1.0f) << "cos " << cosI << " eta " << eta;
             }
-        }
+            // Where exact arithmetic decides beyond float rounding (cos^2 t further from 0
+            // than the 8 ulps of max(1, 1/eta'^2) of fresnelTolerance), the decision agrees.
+            const double etaI = cosI < 0.0f ? 1.0 / eta : eta;
+            const double sin2T = (1.0 - double(cosI) * cosI) / (etaI * etaI);
+            if (std::abs(sin2T - 1.0) > 8.0 * kEps * std::max(1.0, 1.0 / (etaI * etaI))) {
+                EXPECT_EQ(ok, sin2T < 1.0) << "cos " << cosI << " eta " << eta;
+            }
+        });
     }
 }
 
