@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "core/error.h"
@@ -22,18 +23,21 @@ namespace fs = std::filesystem;
 
 constexpr const char* kUsage =
     "usage: caustic render SCENE -o OUT.png|OUT.exr [-o ...] [--set key=value ...]\n"
-    "                      [--assets DIR] [--progress | --no-progress] [--quiet]\n"
+    "                      [--assets DIR] [--stats FILE] [--progress | --no-progress] [--quiet]\n"
     "  SCENE        a scene JSON file, or the name of an example scene (cornell-spheres)\n"
     "  -o FILE      output image; .png (sRGB, 8-bit) or .exr (linear float); repeatable\n"
     "  --set k=v    override a render setting (caustic settings lists them)\n"
     "  --assets DIR folder that mesh files are read from (default: $CAUSTIC_ASSETS or the\n"
-    "               repository's assets/meshes)\n";
+    "               repository's assets/meshes)\n"
+    "  --stats FILE write the settings and the render's stats (time per phase, rays, error,\n"
+    "               memory by component) as JSON\n";
 
 struct Options {
     std::string scene;
     std::vector<fs::path> outputs;
     Json overrides = Json::object();
     fs::path assets;
+    fs::path stats;
     int progress = -1;  // -1: when stderr is a terminal
     bool quiet = false;
 };
@@ -62,6 +66,8 @@ Options parseArgs(const std::vector<std::string>& args) {
             o.overrides[kv.substr(0, eq)] = parseSettingValue(kv.substr(eq + 1));
         } else if (a == "--assets") {
             o.assets = value();
+        } else if (a == "--stats") {
+            o.stats = value();
         } else if (a == "--progress") {
             o.progress = 1;
         } else if (a == "--no-progress") {
@@ -102,6 +108,18 @@ std::string formatRate(double perSecond) {
     else
         std::snprintf(buf, sizeof buf, "%.0f ", perSecond);
     return buf;
+}
+
+// Writes {"settings", "stats"} as JSON, through a temporary file renamed into place.
+void writeStats(const fs::path& file, const RenderSettings& settings, const RenderStats& stats) {
+    fs::path tmp = file;
+    tmp += ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << Json{{"settings", settings.toJson()}, {"stats", stats.toJson()}}.dump(2) << "\n";
+        if (!out.flush()) throw std::runtime_error("cannot write " + file.string());
+    }
+    fs::rename(tmp, file);
 }
 
 }  // namespace
@@ -151,6 +169,7 @@ int runRenderCommand(const std::vector<std::string>& args) {
     RgbImage image{result.film->width(), result.film->height(), result.film->meanRgb()};
     try {
         for (const fs::path& out : options.outputs) writeImage(out, image, settings.exposure);
+        if (!options.stats.empty()) writeStats(options.stats, settings, result.stats);
     } catch (const std::exception& e) {
         std::cerr << "caustic: error: " << e.what() << "\n";
         return 1;
@@ -167,12 +186,13 @@ int runRenderCommand(const std::vector<std::string>& args) {
         std::fprintf(stderr,
                      "caustic: %s: %s, %dx%d, %d spp in %d passes, %.3f s (setup %.3f s), "
                      "%srays/s on %d threads, relative error %s, stopped by %s, %llu samples "
-                     "dropped; wrote %s\n",
+                     "dropped, %.1f MB; wrote %s\n",
                      scenePath.filename().c_str(), settings.integrator.c_str(), image.width,
                      image.height, s.sppReached, s.passes, s.totalSeconds, s.setupSeconds,
                      formatRate(s.raysPerSecond).c_str(), s.threads, error,
                      toString(s.stopReason).c_str(),
-                     static_cast<unsigned long long>(s.droppedSamples), outs.c_str());
+                     static_cast<unsigned long long>(s.droppedSamples),
+                     double(s.memory.total()) / 1e6, outs.c_str());
     }
     return 0;
 }

@@ -23,6 +23,20 @@ Vec2 sampleConcentricDisk(Vec2 u);
 /// and Square"); b2 = 1 - b0 - b1.
 Vec2 sampleUniformTriangle(Vec2 u);
 
+/// The power heuristic (beta = 2) weight of a strategy of density f against one of density g, one
+/// sample each (Veach 1997, eq. 9.13). Written as a ratio so that huge densities give 0 or 1, never
+/// the NaN of inf / inf.
+inline float powerHeuristic(float f, float g) {
+    if (std::isinf(f)) return std::isinf(g) ? 0.5f : 1.0f;
+    if (f >= g) {
+        if (!(f > 0.0f)) return 0.0f;
+        float r = g / f;
+        return 1.0f / (1.0f + r * r);
+    }
+    float r = f / g;
+    return r * r / (1.0f + r * r);
+}
+
 /// Maps a vector given in the frame (t, b, n) to world space.
 inline Vec3 fromLocal(const Vec3& v, const Vec3& n) {
     Vec3 t, b;

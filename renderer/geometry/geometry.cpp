@@ -220,8 +220,7 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
 size_t Geometry::memoryBytes() const {
     return kind_.capacity() * sizeof(PrimKind) + local_.capacity() * sizeof(uint32_t) +
            material_.capacity() * sizeof(uint32_t) + spheres_.capacity() * sizeof(Sphere) +
-           quads_.capacity() * sizeof(Quad) + positions_.capacity() * sizeof(Vec3) +
-           triangles_.capacity() * sizeof(glm::uvec3);
+           quads_.capacity() * sizeof(Quad) + meshBytes();
 }
 
 }  // namespace caustic

@@ -69,8 +69,12 @@ public:
     /// Index of a primitive within the array of its kind.
     uint32_t localIndex(uint32_t prim) const { return local_[prim]; }
 
-    /// Bytes held by the primitive arrays.
+    /// Bytes held by the primitive arrays, and by the triangle arrays alone (zero for a scene
+    /// without meshes or triangles).
     size_t memoryBytes() const;
+    size_t meshBytes() const {
+        return positions_.capacity() * sizeof(Vec3) + triangles_.capacity() * sizeof(glm::uvec3);
+    }
 
 private:
     uint32_t push(PrimKind kind, uint32_t local, uint32_t material);

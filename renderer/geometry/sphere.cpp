@@ -39,15 +39,70 @@ void Sphere::hitPoint(const Ray& ray, float t, Vec3& p, Vec3& pError) const {
     pError = gamma(5) * glm::abs(local) + gamma(1) * glm::abs(p);
 }
 
-SurfaceSample Sphere::sample(Vec2 u) const {
-    Vec3 n = sampleUniformSphere(u);
-    Vec3 local = radius * n;
+namespace {
+
+// The point at outward unit direction n from the center, with the error bound of hitPoint.
+SurfaceSample pointAt(const Sphere& sphere, const Vec3& n) {
+    Vec3 local = sphere.radius * n;
     SurfaceSample s;
-    s.p = center + local;
+    s.p = sphere.center + local;
     s.pError = gamma(5) * glm::abs(local) + gamma(1) * glm::abs(s.p);
-    s.n = n;
+    s.n = sphere.flipped ? -n : n;
+    return s;
+}
+
+// Below sin^2(1.5 degrees), 1 - cos(theta_max) loses its digits to cancellation: use the Taylor
+// expansion sin^2 / 2 instead (pbrt-v4, Sphere::Sample).
+constexpr float kSmallSin2 = 0.00068523f;
+
+float oneMinusCosThetaMax(float sin2ThetaMax) {
+    if (sin2ThetaMax < kSmallSin2) return 0.5f * sin2ThetaMax;
+    return 1.0f - std::sqrt(std::max(0.0f, 1.0f - sin2ThetaMax));
+}
+
+}  // namespace
+
+SurfaceSample Sphere::sample(Vec2 u) const {
+    SurfaceSample s = pointAt(*this, sampleUniformSphere(u));
     s.pdfArea = 1.0f / area();
     return s;
+}
+
+std::optional<SurfaceSample> Sphere::sampleCone(const Vec3& ref, Vec2 u, float& pdf) const {
+    Vec3 toCenter = center - ref;
+    float dist2 = glm::dot(toCenter, toCenter);
+    if (!(dist2 > radius * radius)) return std::nullopt;
+    float dist = std::sqrt(dist2);
+    float sinThetaMax = radius / dist;
+    float sin2ThetaMax = sinThetaMax * sinThetaMax;
+    float oneMinusCos = oneMinusCosThetaMax(sin2ThetaMax);
+
+    // theta: angle from the axis at ref, uniform in cos theta over the cone.
+    float cosTheta = 1.0f - oneMinusCos * u.x;
+    float sin2Theta = 1.0f - cosTheta * cosTheta;
+    if (sin2ThetaMax < kSmallSin2) {
+        sin2Theta = sin2ThetaMax * u.x;
+        cosTheta = std::sqrt(1.0f - sin2Theta);
+    }
+    // alpha: angle at the center between the axis (back towards ref) and the sampled point.
+    float cosAlpha = sin2Theta / sinThetaMax +
+                     cosTheta * std::sqrt(std::max(0.0f, 1.0f - sin2Theta / sin2ThetaMax));
+    float sinAlpha = std::sqrt(std::max(0.0f, 1.0f - cosAlpha * cosAlpha));
+    float phi = 2.0f * kPi * u.y;
+    Vec3 local(sinAlpha * std::cos(phi), sinAlpha * std::sin(phi), cosAlpha);
+    Vec3 n = -fromLocal(local, toCenter / dist);
+    pdf = 1.0f / (2.0f * kPi * oneMinusCos);
+    SurfaceSample s = pointAt(*this, glm::normalize(n));
+    s.pdfArea = 0.0f;  // the density is per solid angle: `pdf`
+    return s;
+}
+
+float Sphere::coneSolidAnglePdf(const Vec3& ref) const {
+    Vec3 toCenter = center - ref;
+    float dist2 = glm::dot(toCenter, toCenter);
+    if (!(dist2 > radius * radius)) return 0.0f;
+    float sinThetaMax = radius / std::sqrt(dist2);  // as in sampleCone, to the last bit
+    return 1.0f / (2.0f * kPi * oneMinusCosThetaMax(sinThetaMax * sinThetaMax));
 }
 
 }  // namespace caustic

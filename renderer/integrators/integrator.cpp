@@ -1,6 +1,8 @@
 #include "integrators/integrator.h"
 
 #include "core/error.h"
+#include "core/sampling.h"
+#include "integrators/path.h"
 #include "integrators/raycast.h"
 #include "integrators/whitted.h"
 #include "render/settings.h"
@@ -22,7 +24,7 @@ bool Integrator::unoccluded(const SurfaceInteraction& si, const LightSample& ls,
 }
 
 Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
-                                    SampleContext& ctx) const {
+                                    SampleContext& ctx, bool mis) const {
     if (m.isSpecular()) return Color(0.0f);
     std::optional<SampledLight> chosen = scene_.lightSampler.sample(ctx.rng.uniform());
     Vec2 u = ctx.rng.uniform2();
@@ -31,11 +33,15 @@ Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo
     if (!ls || isBlack(ls->Li)) return Color(0.0f);
     Color f = m.f(wo, ls->wi, si.n);
     if (isBlack(f) || !unoccluded(si, *ls, ctx)) return Color(0.0f);
-    return f * ls->Li * std::abs(glm::dot(ls->wi, si.n)) / (ls->pdf * chosen->pmf);
+    float lightPdf = ls->pdf * chosen->pmf;
+    float weight = 1.0f;
+    if (mis && !chosen->light->isDelta())
+        weight = powerHeuristic(lightPdf, m.pdf(wo, ls->wi, si.n));
+    return f * ls->Li * (std::abs(glm::dot(ls->wi, si.n)) * weight / lightPdf);
 }
 
 const std::vector<std::string>& integratorNames() {
-    static const std::vector<std::string> names{"raycast", "whitted"};
+    static const std::vector<std::string> names{"raycast", "whitted", "path"};
     return names;
 }
 
@@ -45,6 +51,11 @@ std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerat
     if (name == "raycast") return std::make_unique<RayCastIntegrator>(scene, accel);
     if (name == "whitted")
         return std::make_unique<WhittedIntegrator>(scene, accel, settings.maxDepth);
+    if (name == "path")
+        return std::make_unique<PathIntegrator>(
+            scene, accel,
+            PathIntegrator::Options{settings.maxDepth, settings.rrDepth, settings.lightSampling,
+                                    settings.mis});
     std::string valid;
     for (const std::string& n : integratorNames()) valid += (valid.empty() ? "" : ", ") + n;
     throw InputError("/settings/integrator",

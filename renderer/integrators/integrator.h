@@ -35,6 +35,8 @@ public:
     /// One sample of the radiance arriving at the camera along `ray` (world space, unit direction),
     /// in W/(m^2 sr) per linear RGB channel. Thread-safe.
     virtual Color Li(const Ray& ray, SampleContext& ctx) const = 0;
+    /// Bytes of the integrator's own structures (photon maps); zero for those that keep none.
+    virtual size_t memoryBytes() const { return 0; }
 
 protected:
     /// Closest hit along the ray, counting it.
@@ -51,8 +53,10 @@ protected:
     bool unoccluded(const SurfaceInteraction& si, const LightSample& ls, SampleContext& ctx) const;
     /// Light arriving at si from one light chosen by power and reflected towards wo, with a shadow
     /// ray: an unbiased estimate of direct lighting (pbrt-v4 13.2). Zero for specular materials.
+    /// With `mis`, area-light samples carry their power-heuristic weight against BSDF sampling,
+    /// and the caller adds the BSDF-sampled share (pbrt-v4 13.4).
     Color sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
-                            SampleContext& ctx) const;
+                            SampleContext& ctx, bool mis = false) const;
 
     const Scene& scene_;
     const Accelerator& accel_;

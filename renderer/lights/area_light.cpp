@@ -3,21 +3,37 @@
 namespace caustic {
 
 std::optional<LightSample> AreaLight::sampleLi(const Vec3& ref, Vec2 u) const {
-    SurfaceSample at = geometry_.sample(prim_, u);
+    const Sphere* s = sphere();
+    float conePdf = 0.0f;
+    std::optional<SurfaceSample> cone = s ? s->sampleCone(ref, u, conePdf) : std::nullopt;
+    SurfaceSample at = cone ? *cone : geometry_.sample(prim_, u);
     Vec3 d = at.p - ref;
     float dist2 = glm::dot(d, d);
-    if (dist2 == 0.0f) return std::nullopt;
+    if (!(dist2 > 0.0f)) return std::nullopt;
     Vec3 wi = d / std::sqrt(dist2);
     // Emission leaves the front side only.
     float cosLight = -glm::dot(wi, at.n);
-    if (cosLight <= 0.0f) return std::nullopt;
-    LightSample s;
-    s.wi = wi;
-    s.Li = Le_;
-    s.pdf = at.pdfArea * dist2 / cosLight;  // dA -> d omega (pbrt-v4 eq. 4.9)
-    s.at = at;
-    if (!std::isfinite(s.pdf) || s.pdf <= 0.0f) return std::nullopt;
-    return s;
+    if (!(cosLight > 0.0f)) return std::nullopt;
+    LightSample ls;
+    ls.wi = wi;
+    ls.Li = Le_;
+    // Area density to solid angle: p(w) = p(A) d^2 / cos (pbrt-v4 eq. 4.9).
+    ls.pdf = cone ? conePdf : at.pdfArea * dist2 / cosLight;
+    ls.at = at;
+    if (!std::isfinite(ls.pdf) || !(ls.pdf > 0.0f)) return std::nullopt;
+    return ls;
+}
+
+float AreaLight::pdfLi(const Vec3& ref, const SurfaceInteraction& at) const {
+    if (const Sphere* s = sphere()) {
+        float conePdf = s->coneSolidAnglePdf(ref);
+        if (conePdf > 0.0f) return conePdf;
+    }
+    Vec3 d = at.p - ref;
+    float dist2 = glm::dot(d, d);
+    float cosLight = std::abs(glm::dot(d, at.n)) / std::sqrt(dist2);
+    float pdf = dist2 / (cosLight * geometry_.area(prim_));
+    return std::isfinite(pdf) ? pdf : 0.0f;
 }
 
 }  // namespace caustic

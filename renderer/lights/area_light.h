@@ -11,14 +11,23 @@ public:
     AreaLight(const Geometry& geometry, uint32_t prim, const Color& Le)
         : geometry_(geometry), prim_(prim), Le_(Le) {}
 
-    /// Samples a point uniformly by area and converts the density to solid angle.
+    /// Samples a sphere seen from outside uniformly in the cone of directions it subtends; any
+    /// other primitive (and a sphere from inside) uniformly by area, converted to solid angle.
     std::optional<LightSample> sampleLi(const Vec3& ref, Vec2 u) const override;
+    float pdfLi(const Vec3& ref, const SurfaceInteraction& at) const override;
     /// Le * area * pi: a one-sided Lambertian emitter.
     Color power() const override { return Le_ * geometry_.area(prim_) * kPi; }
     bool isDelta() const override { return false; }
     uint32_t prim() const { return prim_; }
 
 private:
+    /// The sphere this light is, or nullptr for a quad or triangle.
+    const Sphere* sphere() const {
+        return geometry_.kind(prim_) == PrimKind::Sphere
+                   ? &geometry_.spheres()[geometry_.localIndex(prim_)]
+                   : nullptr;
+    }
+
     const Geometry& geometry_;
     uint32_t prim_;
     Color Le_;

@@ -22,6 +22,10 @@ public:
     /// Samples incident light at world point `ref` from a 2D sample u in [0,1)^2; nullopt when no
     /// light can arrive (the back of an emitter, a zero density). Ignores occlusion. Thread-safe.
     virtual std::optional<LightSample> sampleLi(const Vec3& ref, Vec2 u) const = 0;
+    /// The solid-angle density with which sampleLi(ref, .) returns the direction towards `at`, a
+    /// point on this light that a ray from ref reached (for multiple importance sampling). Zero
+    /// for delta lights.
+    virtual float pdfLi(const Vec3& ref, const SurfaceInteraction& at) const = 0;
     /// Total emitted power in watts per channel, for choosing lights in proportion to power.
     virtual Color power() const = 0;
     /// True for lights that cannot be hit by a ray (point lights).

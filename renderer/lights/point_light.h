@@ -21,6 +21,7 @@ public:
         s.at = SurfaceSample{position_, Vec3(0.0f), Vec3(0.0f), 1.0f};
         return s;
     }
+    float pdfLi(const Vec3&, const SurfaceInteraction&) const override { return 0.0f; }
     Color power() const override { return 4.0f * kPi * intensity_; }
     bool isDelta() const override { return true; }
     const Vec3& position() const { return position_; }

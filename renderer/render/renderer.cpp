@@ -75,9 +75,21 @@ std::string toString(StopReason r) {
     return "unknown";
 }
 
+nlohmann::json MemoryStats::toJson() const {
+    return {{"geometry", geometry},
+            {"meshes", meshes},
+            {"accelerator", accelerator},
+            {"film", film},
+            {"light_tables", lightTables},
+            {"photon_maps", photonMaps},
+            {"total", total()}};
+}
+
 nlohmann::json RenderStats::toJson() const {
     auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
     return {{"setup_seconds", setupSeconds},
+            {"accelerator_seconds", acceleratorSeconds},
+            {"integrator_seconds", integratorSeconds},
             {"render_seconds", renderSeconds},
             {"total_seconds", totalSeconds},
             {"rays", rays},
@@ -88,7 +100,8 @@ nlohmann::json RenderStats::toJson() const {
             {"relative_error", number(relativeError)},
             {"dropped_samples", droppedSamples},
             {"threads", threads},
-            {"stop_reason", toString(stopReason)}};
+            {"stop_reason", toString(stopReason)},
+            {"memory", memory.toJson()}};
 }
 
 RenderResult render(const Scene& scene, const RenderSettings& settings,
@@ -100,9 +113,12 @@ RenderResult render(const Scene& scene, const RenderSettings& settings,
 
     // Build what this render needs.
     std::unique_ptr<Accelerator> accel = createAccelerator(settings.accelerator, scene.geometry);
+    stats.acceleratorSeconds = secondsSince(t0);
+    auto tIntegrator = Clock::now();
     std::unique_ptr<Integrator> integrator = createIntegrator(scene, *accel, settings);
     result.film = std::make_unique<Film>(width, height);
     Film& film = *result.film;
+    stats.integratorSeconds = secondsSince(tIntegrator);
     stats.setupSeconds = secondsSince(t0);
 
     const int threads = settings.threads > 0 ? settings.threads : omp_get_max_threads();
@@ -191,6 +207,14 @@ RenderResult render(const Scene& scene, const RenderSettings& settings,
     stats.raysPerSecond = stats.renderSeconds > 0 ? double(stats.rays) / stats.renderSeconds : 0;
     stats.relativeError = film.relativeError();
     stats.droppedSamples = film.droppedSamples();
+
+    MemoryStats& memory = stats.memory;
+    memory.meshes = scene.geometry.meshBytes();
+    memory.geometry = scene.geometry.memoryBytes() - memory.meshes;
+    memory.accelerator = accel->memoryBytes();
+    memory.film = film.memoryBytes() + passImage.capacity() * sizeof(Color);
+    memory.lightTables = scene.lightTableBytes();
+    memory.photonMaps = integrator->memoryBytes();
     return result;
 }
 

@@ -22,10 +22,27 @@ namespace caustic {
 enum class StopReason { Spp, TimeLimit, TargetError, Cancelled };
 std::string toString(StopReason r);
 
+/// Bytes held by each part of a render, at its end. A part the scene and integrator do not need
+/// is never built and shows zero.
+struct MemoryStats {
+    size_t geometry = 0;     ///< Primitive tables, spheres and quads.
+    size_t meshes = 0;       ///< Triangle vertex and index arrays.
+    size_t accelerator = 0;  ///< The intersection structure (Embree: the buffers we hand it).
+    size_t film = 0;         ///< Pass accumulators and the pass buffer.
+    size_t lightTables = 0;  ///< Light selection by power and the emitter index.
+    size_t photonMaps = 0;   ///< Photon maps, for the photon-mapping integrators.
+    size_t total() const {
+        return geometry + meshes + accelerator + film + lightTables + photonMaps;
+    }
+    nlohmann::json toJson() const;
+};
+
 /// What a render cost and how accurate it is.
 struct RenderStats {
-    double setupSeconds = 0;   ///< Building the accelerator and integrator.
-    double renderSeconds = 0;  ///< The passes.
+    double setupSeconds = 0;        ///< acceleratorSeconds + integratorSeconds.
+    double acceleratorSeconds = 0;  ///< Building the intersection structure.
+    double integratorSeconds = 0;   ///< Preparing the integrator (photon tracing, for example).
+    double renderSeconds = 0;       ///< The passes.
     double totalSeconds = 0;
     uint64_t rays = 0;         ///< Every ray traced: camera, bounce and shadow.
     uint64_t samples = 0;      ///< Camera samples taken (pixels x spp reached).
@@ -36,6 +53,7 @@ struct RenderStats {
     uint64_t droppedSamples = 0;  ///< NaN or infinite samples left out.
     int threads = 0;
     StopReason stopReason = StopReason::Spp;
+    MemoryStats memory;
     nlohmann::json toJson() const;
 };
 

@@ -65,11 +65,42 @@ const std::vector<SettingSpec>& settingSpecs() {
              T::Integer,
              d.maxDepth,
              1,
-             1024,
+             1e6,
              {},
              "bounces",
-             "Longest path traced; Whitted recursion depth.",
+             "Most scattering events on a path (1: direct light only); for whitted, the depth of "
+             "specular recursion.",
              {}},
+            {"rr_depth",
+             T::Integer,
+             d.rrDepth,
+             1,
+             1e6,
+             {},
+             "bounces",
+             "Bounces before Russian roulette may end a path (it continues with probability equal "
+             "to its throughput, so the estimate stays unbiased).",
+             {"path"}},
+            {"light_sampling",
+             T::Boolean,
+             d.lightSampling,
+             0,
+             0,
+             {},
+             "",
+             "Sample a light (chosen by power) at every non-specular vertex. Off: the naive path "
+             "tracer, which finds emitters only by BSDF sampling and never sees point lights.",
+             {"path"}},
+            {"mis",
+             T::Boolean,
+             d.mis,
+             0,
+             0,
+             {},
+             "",
+             "Weight light and BSDF samples by the power heuristic. Off (with light_sampling on): "
+             "direct light at non-specular vertices comes from light samples only.",
+             {"path"}},
             {"accelerator",
              T::String,
              d.accelerator,
@@ -205,6 +236,9 @@ RenderSettings parseSettings(const Json& settings, const std::string& path) {
     r.timeLimit = values["time_limit"].get<double>();
     r.targetError = values["target_error"].get<double>();
     r.maxDepth = values["max_depth"].get<int>();
+    r.rrDepth = values["rr_depth"].get<int>();
+    r.lightSampling = values["light_sampling"].get<bool>();
+    r.mis = values["mis"].get<bool>();
     r.accelerator = values["accelerator"].get<std::string>();
     r.seed = values["seed"].get<uint64_t>();
     r.threads = values["threads"].get<int>();
@@ -224,11 +258,19 @@ int RenderSettings::resolvedSppPerPass() const {
 }
 
 Json RenderSettings::toJson() const {
-    return Json{{"integrator", integrator},    {"spp", spp},
-                {"spp_per_pass", sppPerPass},  {"time_limit", timeLimit},
-                {"target_error", targetError}, {"max_depth", maxDepth},
-                {"accelerator", accelerator},  {"seed", seed},
-                {"threads", threads},          {"exposure", exposure}};
+    return Json{{"integrator", integrator},
+                {"spp", spp},
+                {"spp_per_pass", sppPerPass},
+                {"time_limit", timeLimit},
+                {"target_error", targetError},
+                {"max_depth", maxDepth},
+                {"rr_depth", rrDepth},
+                {"light_sampling", lightSampling},
+                {"mis", mis},
+                {"accelerator", accelerator},
+                {"seed", seed},
+                {"threads", threads},
+                {"exposure", exposure}};
 }
 
 Json parseSettingValue(const std::string& text) {

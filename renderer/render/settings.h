@@ -15,12 +15,15 @@ using Json = nlohmann::json;
 
 /// The validated settings of one render. Field names follow the JSON keys.
 struct RenderSettings {
-    std::string integrator = "whitted";
-    int spp = 16;            ///< Samples per pixel: the most the render takes.
-    int sppPerPass = 0;      ///< Samples per pixel in each pass; 0 chooses automatically.
-    double timeLimit = 0;    ///< Seconds; 0 for none.
-    double targetError = 0;  ///< Relative RMS error to stop at; 0 for none.
-    int maxDepth = 8;        ///< Longest path, in bounces.
+    std::string integrator = "path";
+    int spp = 16;               ///< Samples per pixel: the most the render takes.
+    int sppPerPass = 0;         ///< Samples per pixel in each pass; 0 chooses automatically.
+    double timeLimit = 0;       ///< Seconds; 0 for none.
+    double targetError = 0;     ///< Relative RMS error to stop at; 0 for none.
+    int maxDepth = 16;          ///< Most bounces on a path (scattering events); Whitted recursion.
+    int rrDepth = 3;            ///< Path tracing: bounces before Russian roulette may end a path.
+    bool lightSampling = true;  ///< Path tracing: next-event estimation.
+    bool mis = true;            ///< Path tracing: power-heuristic MIS of light and BSDF samples.
     std::string accelerator = "embree";  // the fastest of the three today
     uint64_t seed = 0;
     int threads = 0;      ///< 0 uses every core.

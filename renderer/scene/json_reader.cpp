@@ -185,6 +185,14 @@ Color JsonObject::color(const std::string& key, const Color& fallback) {
     return j_.contains(key) ? color(key) : (find(key), fallback);
 }
 
+bool JsonObject::boolean(const std::string& key, bool fallback) {
+    const Json* v = find(key);
+    if (!v) return fallback;
+    if (!v->is_boolean())
+        throw InputError(pathOf(key), "expected a boolean, got " + jsonTypeName(*v));
+    return v->get<bool>();
+}
+
 void JsonObject::finish() const {
     for (auto it = j_.begin(); it != j_.end(); ++it) {
         if (std::find(known_.begin(), known_.end(), it.key()) == known_.end())

@@ -56,6 +56,8 @@ public:
     Color color(const std::string& key);
     Color color(const std::string& key, const Color& fallback);
 
+    bool boolean(const std::string& key, bool fallback);
+
     /// Throws InputError for the first field no accessor asked for, listing the valid ones.
     void finish() const;
 

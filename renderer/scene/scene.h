@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,11 +27,22 @@ struct Scene {
     std::vector<std::unique_ptr<Light>> lights;
     /// Chooses among `lights` by power; empty (and free) when nothing emits.
     LightSampler lightSampler;
+    /// The emissive primitives in ascending order: lights[firstAreaLight + i] is emitterPrims[i]'s
+    /// area light. Empty when nothing emits.
+    std::vector<uint32_t> emitterPrims;
+    size_t firstAreaLight = 0;
     Color background{0.0f};
     /// The scene file's "settings" object: defaults a job's own settings override.
     nlohmann::json settings = nlohmann::json::object();
 
     const Material& material(uint32_t prim) const { return *materials[geometry.material(prim)]; }
+    /// The area light of an emissive primitive and the probability that the light sampler picks
+    /// it; nullopt for a primitive that does not emit.
+    std::optional<SampledLight> areaLightOf(uint32_t prim) const;
+    /// Bytes of the light tables: the sampler and the primitive-to-light index.
+    size_t lightTableBytes() const {
+        return lightSampler.memoryBytes() + emitterPrims.capacity() * sizeof(uint32_t);
+    }
 };
 
 struct SceneOptions {

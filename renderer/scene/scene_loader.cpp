@@ -1,4 +1,5 @@
 // Scene JSON -> Scene, validated strictly (DESIGN.md, "Scene format").
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -135,7 +136,8 @@ void readShape(const Json& j, const std::string& path, Scene& scene, const Scene
     if (type == "sphere") {
         Vec3 center = frame.point(o, "center");
         float radius = o.positive("radius");
-        scene.geometry.addSphere(Sphere{center, radius}, material);
+        bool flipped = o.boolean("flip_normals", false);
+        scene.geometry.addSphere(Sphere{center, radius, flipped}, material);
     } else if (type == "quad") {
         Vec3 origin = frame.point(o, "origin"), u = o.vec3("u"), v = o.vec3("v");
         if (!(glm::length(glm::cross(u, v)) > 0.0f))
@@ -218,14 +220,22 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
     root.finish();
 
     // Every emissive primitive is an area light.
+    scene->firstAreaLight = scene->lights.size();
     for (uint32_t prim = 0; prim < scene->geometry.size(); ++prim) {
         const Material& m = scene->material(prim);
-        if (m.isEmissive())
-            scene->lights.push_back(
-                std::make_unique<AreaLight>(scene->geometry, prim, m.emission()));
+        if (!m.isEmissive()) continue;
+        scene->lights.push_back(std::make_unique<AreaLight>(scene->geometry, prim, m.emission()));
+        scene->emitterPrims.push_back(prim);
     }
     if (!scene->lights.empty()) scene->lightSampler = LightSampler(scene->lights);
     return scene;
+}
+
+std::optional<SampledLight> Scene::areaLightOf(uint32_t prim) const {
+    auto it = std::lower_bound(emitterPrims.begin(), emitterPrims.end(), prim);
+    if (it == emitterPrims.end() || *it != prim) return std::nullopt;
+    size_t index = firstAreaLight + size_t(it - emitterPrims.begin());
+    return SampledLight{lights[index].get(), lightSampler.pmf(index)};
 }
 
 Json parseJson(const std::string& text) {

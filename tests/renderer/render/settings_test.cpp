@@ -55,6 +55,9 @@ RenderSettings nonDefaultSettings() {
     s.timeLimit = 2.5;
     s.targetError = 0.01;
     s.maxDepth = 5;
+    s.rrDepth = 7;
+    s.lightSampling = false;
+    s.mis = false;
     s.accelerator = acceleratorNames().back();
     s.seed = 12345678901;
     s.threads = 3;
@@ -64,12 +67,15 @@ RenderSettings nonDefaultSettings() {
 
 TEST(SettingsDefaults, EmptyObjectGivesTheDefaults) {
     RenderSettings s = parseSettings(Json::object());
-    EXPECT_EQ(s.integrator, "whitted");
+    EXPECT_EQ(s.integrator, "path");
     EXPECT_EQ(s.spp, 16);
     EXPECT_EQ(s.sppPerPass, 0);
     EXPECT_EQ(s.timeLimit, 0.0);
     EXPECT_EQ(s.targetError, 0.0);
-    EXPECT_EQ(s.maxDepth, 8);
+    EXPECT_EQ(s.maxDepth, 16);
+    EXPECT_EQ(s.rrDepth, 3);
+    EXPECT_TRUE(s.lightSampling);
+    EXPECT_TRUE(s.mis);
     EXPECT_EQ(s.accelerator, "embree");
     EXPECT_EQ(s.seed, 0u);
     EXPECT_EQ(s.threads, 0);
@@ -148,7 +154,7 @@ TEST(SettingsErrors, SppOutOfRange) {
 
 TEST(SettingsErrors, OtherRanges) {
     EXPECT_SETTINGS_ERROR((Json{{"max_depth", 0}}), "/settings/max_depth",
-                          "must be in [1, 1024], got 0");
+                          "must be in [1, 1000000], got 0");
     EXPECT_SETTINGS_ERROR((Json{{"threads", 1025}}), "/settings/threads",
                           "must be in [0, 1024], got 1025");
     EXPECT_SETTINGS_ERROR((Json{{"seed", -1}}), "/settings/seed",

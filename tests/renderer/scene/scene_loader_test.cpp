@@ -166,8 +166,9 @@ TEST(SceneLoaderErrors, UnknownFieldInCameraShapeOrMaterial) {
     EXPECT_SCENE_ERROR(
         patched("/camera/aperture", 0.1), "/camera/aperture",
         "unknown field; valid fields here: fov, height, look_at, position, up, width");
-    EXPECT_SCENE_ERROR(patched("/shapes/0/colour", {1, 0, 0}), "/shapes/0/colour",
-                       "unknown field; valid fields here: center, material, radius, type");
+    EXPECT_SCENE_ERROR(
+        patched("/shapes/0/colour", {1, 0, 0}), "/shapes/0/colour",
+        "unknown field; valid fields here: center, flip_normals, material, radius, type");
     EXPECT_SCENE_ERROR(patched("/materials/white/roughness", 0.5), "/materials/white/roughness",
                        "unknown field; valid fields here: albedo, emission, type");
     EXPECT_SCENE_ERROR(patched("/materials/glass/albedo", {1, 1, 1}), "/materials/glass/albedo",
@@ -224,6 +225,8 @@ TEST(SceneLoaderErrors, NumberOverflowsFloat) {
 TEST(SceneLoaderErrors, NegativeAndZeroRadius) {
     for (double radius : {-0.5, 0.0, -0.0})
         EXPECT_SCENE_ERROR(patched("/shapes/0/radius", radius), "/shapes/0/radius", "must be > 0");
+    EXPECT_SCENE_ERROR(patched("/shapes/0/flip_normals", 1), "/shapes/0/flip_normals",
+                       "expected a boolean, got a number");
 }
 
 TEST(SceneLoaderErrors, Vec3WithTwoElementsOrAString) {
