@@ -338,8 +338,8 @@ void printTables(const std::vector<MeshResult>& results, const Options& opt, int
                       << fmt("%.2f", mb) << " | "
                       << fmt("%.1f", double(r.memory.at(a)) / double(r.triangles)) << " |\n";
         }
-    std::cout << "\nmemoryBytes: what the accelerator holds beyond the Geometry. Embree's counts "
-                 "only the buffers we hand it: Embree does not report its BVH.\n";
+    std::cout << "\nmemoryBytes: what the accelerator holds beyond the Geometry. Embree's is what "
+                 "its device's memory monitor reports (BVH and vertex buffers).\n";
 
     std::cout << "\n### kdtree structure\n\n"
               << "| mesh | nodes | interior | leaves | empty leaves | max depth | references / "

@@ -1,5 +1,6 @@
 #include "accel/embree.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace caustic {
@@ -9,6 +10,13 @@ void errorCallback(void* user, RTCError code, const char* message) {
     auto* error = static_cast<std::string*>(user);
     *error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " +
              (message ? message : "(no message)");
+}
+
+// Embree reports each allocation (bytes > 0) and release (bytes < 0) of its BVH and buffers, from
+// any thread (Embree 3 API, rtcSetDeviceMemoryMonitorFunction).
+bool countMemory(void* user, ssize_t bytes, bool /*post*/) {
+    static_cast<std::atomic<int64_t>*>(user)->fetch_add(bytes, std::memory_order_relaxed);
+    return true;
 }
 
 RTCRay toRtcRay(const Ray& ray, float tMax) {
@@ -76,6 +84,7 @@ EmbreeAccel::EmbreeAccel(const Geometry& geometry) : geometry_(geometry) {
     device_.reset(rtcNewDevice(nullptr));
     if (!device_) throw std::runtime_error("Embree: cannot create a device");
     rtcSetDeviceErrorFunction(device_.get(), errorCallback, &error_);
+    rtcSetDeviceMemoryMonitorFunction(device_.get(), countMemory, &deviceBytes_);
     scene_.reset(rtcNewScene(device_.get()));
     rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
@@ -108,7 +117,6 @@ void EmbreeAccel::addTriangles() {
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles.size()));
     for (size_t i = 0; i < triangles.size(); ++i)
         for (int c = 0; c < 3; ++c) idx[3 * i + size_t(c)] = triangles[i][c];
-    bufferBytes_ += positions.size() * 12 + triangles.size() * 12;
     attach(g, primsOfKind(PrimKind::Triangle, triangles.size()), "adding triangles");
 }
 
@@ -142,7 +150,6 @@ void EmbreeAccel::addQuads() {
             idx[4 * q + size_t(k)] = unsigned(4 * q + size_t(k));
         }
     }
-    bufferBytes_ += quads.size() * (48 + 16);
     attach(g, primsOfKind(PrimKind::Quad, quads.size()), "adding quads");
 }
 
@@ -186,8 +193,11 @@ bool EmbreeAccel::occluded(const Ray& ray, float tMax) const {
 }
 
 size_t EmbreeAccel::memoryBytes() const {
-    // Embree does not report its BVH's size; count the buffers it holds for us.
-    return bufferBytes_;
+    // What the device holds (BVH and vertex buffers, as its monitor reports), and our index.
+    size_t index = 0;
+    for (const auto& prims : primsByGeometry_) index += prims.capacity() * sizeof(uint32_t);
+    return size_t(std::max<int64_t>(0, deviceBytes_.load())) + index +
+           spherePrims_.capacity() * sizeof(uint32_t);
 }
 
 }  // namespace caustic

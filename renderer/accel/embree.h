@@ -5,6 +5,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +49,8 @@ private:
     uint32_t primOf(unsigned geomID, unsigned primID) const;
 
     const Geometry& geometry_;
+    // Bytes the device holds, by its memory monitor; declared first, released last.
+    std::atomic<int64_t> deviceBytes_{0};
     // Released in reverse order: the scene before its device.
     std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
     std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;
@@ -55,7 +59,6 @@ private:
     std::vector<std::vector<uint32_t>> primsByGeometry_;
     std::vector<uint32_t> spherePrims_;
     Bounds3 bounds_;
-    size_t bufferBytes_ = 0;
 };
 
 }  // namespace caustic

@@ -1,0 +1,98 @@
+// Stats report memory by component, and a render builds only what its scene and integrator need
+// (DESIGN.md, "Cost follows the scene"): no photon map for path tracing, no mesh arrays for a scene
+// of spheres, no light tables for a scene that emits nothing.
+#include <gtest/gtest.h>
+
+#include "accel/accelerator.h"
+#include "support/test_scenes.h"
+
+namespace caustic {
+namespace {
+
+using nlohmann::json;
+using testing::exampleScene;
+using testing::sceneFromJson;
+using testing::settingsFrom;
+
+constexpr int kWidth = 24, kHeight = 16;
+
+// Spheres only, lit by an emissive sphere.
+json spheresOnly() {
+    return json::parse(R"({
+      "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 40, "width": 24, "height": 16},
+      "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]},
+                    "lamp": {"type": "diffuse", "albedo": [0, 0, 0], "emission": [4, 4, 4]}},
+      "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "white"},
+                 {"type": "sphere", "center": [0, 3, 0], "radius": 0.5, "material": "lamp"}]
+    })");
+}
+
+MemoryStats renderMemory(const json& doc, const json& settings) {
+    auto scene = sceneFromJson(doc);
+    return render(*scene, settingsFrom(settings)).stats.memory;
+}
+
+TEST(MemoryStats, ComponentsAddUpAndFilmIsPerPixel) {
+    MemoryStats m = renderMemory(spheresOnly(), {{"integrator", "path"}, {"spp", 2}});
+    EXPECT_EQ(m.total(),
+              m.geometry + m.meshes + m.accelerator + m.film + m.lightTables + m.photonMaps);
+    // Sum and sum of squares in double per channel, plus the float pass buffer.
+    EXPECT_EQ(m.film, size_t(kWidth) * kHeight * (2 * 3 * sizeof(double) + 3 * sizeof(float)));
+    EXPECT_GT(m.geometry, 0u);
+    json j = m.toJson();
+    for (const char* key :
+         {"geometry", "meshes", "accelerator", "film", "light_tables", "photon_maps", "total"})
+        EXPECT_TRUE(j.contains(key)) << key;
+}
+
+TEST(MemoryStats, PathTracingBuildsNoPhotonMap) {
+    for (const char* integrator : {"raycast", "whitted", "path"})
+        EXPECT_EQ(renderMemory(spheresOnly(), {{"integrator", integrator}, {"spp", 1}}).photonMaps,
+                  0u)
+            << integrator;
+}
+
+TEST(MemoryStats, SpheresBuildNoMeshStructures) {
+    for (const std::string& accel : acceleratorNames()) {
+        MemoryStats spheres = renderMemory(spheresOnly(), {{"accelerator", accel}, {"spp", 1}});
+        EXPECT_EQ(spheres.meshes, 0u) << accel;
+    }
+    auto scene = sceneFromJson(spheresOnly());
+    EXPECT_FALSE(scene->geometry.hasTriangles());
+    // The same accounting sees a mesh when there is one.
+    MemoryStats bunny = renderMemory(exampleScene("bunny", kWidth, kHeight), {{"spp", 1}});
+    EXPECT_GT(bunny.meshes, 1000000u);  // 69451 triangles: positions and indices
+}
+
+TEST(MemoryStats, NothingEmittingBuildsNoLightTables) {
+    json dark = spheresOnly();
+    dark["materials"]["lamp"].erase("emission");
+    auto scene = sceneFromJson(dark);
+    EXPECT_TRUE(scene->lights.empty());
+    EXPECT_TRUE(scene->emitterPrims.empty());
+    EXPECT_EQ(renderMemory(dark, {{"integrator", "path"}, {"spp", 1}}).lightTables, 0u);
+    // One emitter: a table of one.
+    EXPECT_GT(renderMemory(spheresOnly(), {{"integrator", "path"}, {"spp", 1}}).lightTables, 0u);
+}
+
+TEST(MemoryStats, ZeroPowerLightsAreNeverChosen) {
+    json doc = spheresOnly();
+    doc["lights"] =
+        json::parse(R"([{"type": "point", "position": [0, 2, 0], "intensity": [0, 0, 0]}])");
+    auto scene = sceneFromJson(doc);
+    ASSERT_EQ(scene->lights.size(), 2u);  // the point light first, then the lamp's area light
+    EXPECT_EQ(scene->lightSampler.pmf(0), 0.0f);
+    EXPECT_EQ(scene->lightSampler.pmf(1), 1.0f);
+    for (int i = 0; i < 1000; ++i)
+        EXPECT_EQ(scene->lightSampler.sample(float(i) / 1000.0f)->light, scene->lights[1].get());
+}
+
+TEST(MemoryStats, EmbreeReportsItsBvh) {
+    MemoryStats embree = renderMemory(exampleScene("bunny", kWidth, kHeight),
+                                      {{"accelerator", "embree"}, {"spp", 1}});
+    // At least its copy of the 69451 triangles' vertices and indices, and the BVH beyond them.
+    EXPECT_GT(embree.accelerator, embree.meshes);
+}
+
+}  // namespace
+}  // namespace caustic
