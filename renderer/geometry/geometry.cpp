@@ -43,7 +43,11 @@ uint32_t Geometry::addSphere(const Sphere& s, uint32_t material) {
 }
 
 uint32_t Geometry::addQuad(const Vec3& origin, const Vec3& u, const Vec3& v, uint32_t material) {
-    quads_.push_back(Quad{{origin, origin + u, origin + u + v, origin + v}});
+    Quad q{{origin, origin + u, origin + u + v, origin + v}, Vec3(0.0f), 0.0f};
+    // The normal of the triangle (v0, v1, v3) that intersection reports, and the exact area.
+    q.n = triangleNormal(q.v[0], q.v[1], q.v[3]);
+    q.area = glm::length(glm::cross(q.v[1] - q.v[0], q.v[3] - q.v[0]));
+    quads_.push_back(q);
     return push(PrimKind::Quad, static_cast<uint32_t>(quads_.size() - 1), material);
 }
 
@@ -125,11 +129,9 @@ Hit Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
             hit.uv = spheres_[i].uv(p);
             break;
         }
-        case PrimKind::Quad: {
-            const Quad& q = quads_[i];
-            hit.n = triangleNormal(q.v[0], q.v[1], q.v[3]);
+        case PrimKind::Quad:
+            hit.n = quads_[i].n;
             break;
-        }
         case PrimKind::Triangle: {
             Vec3 p0, p1, p2;
             triangleVertices(i, p0, p1, p2);
@@ -175,10 +177,8 @@ float Geometry::area(uint32_t prim) const {
     switch (kind_[prim]) {
         case PrimKind::Sphere:
             return spheres_[i].area();
-        case PrimKind::Quad: {
-            const Quad& q = quads_[i];
-            return glm::length(glm::cross(q.v[1] - q.v[0], q.v[3] - q.v[0]));
-        }
+        case PrimKind::Quad:
+            return quads_[i].area;
         case PrimKind::Triangle: {
             Vec3 p0, p1, p2;
             triangleVertices(i, p0, p1, p2);
@@ -200,7 +200,8 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
             Vec3 p0, p1, p2;
             quadTriangle(quads_[i], second, p0, p1, p2);
             triangleHitPoint(b, p0, p1, p2, s.p, s.pError);
-            s.n = triangleNormal(quads_[i].v[0], quads_[i].v[1], quads_[i].v[3]);
+            s.n = quads_[i].n;
+            s.pdfArea = 1.0f / quads_[i].area;
             break;
         }
         case PrimKind::Triangle: {
@@ -209,11 +210,12 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
             Vec2 b = sampleUniformTriangle(u);
             triangleHitPoint(TriangleHit{b.x, b.y, 1.0f - b.x - b.y, 0.0f}, p0, p1, p2, s.p,
                              s.pError);
-            s.n = triangleNormal(p0, p1, p2);
+            Vec3 c = glm::cross(p1 - p0, p2 - p0);
+            s.n = glm::normalize(c);  // as triangleNormal, to the bit
+            s.pdfArea = 2.0f / glm::length(c);
             break;
         }
     }
-    s.pdfArea = 1.0f / area(prim);
     return s;
 }
 

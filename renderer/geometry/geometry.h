@@ -22,6 +22,8 @@ enum class PrimKind : uint8_t { Sphere, Quad, Triangle };
 /// does, so that quads sharing an edge leave no crack.
 struct Quad {
     Vec3 v[4];
+    Vec3 n;      ///< Unit front-side normal, computed once (every hit and light sample needs it).
+    float area;  ///< |cross(u, v)|.
 };
 
 /// A primitive's hit before it is finished into a Hit: distance and surface parameters.
