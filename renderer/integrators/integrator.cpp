@@ -29,7 +29,7 @@ Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo
     std::optional<SampledLight> chosen = scene_.lightSampler.sample(ctx.rng.uniform());
     Vec2 u = ctx.rng.uniform2();
     if (!chosen) return Color(0.0f);
-    std::optional<LightSample> ls = chosen->light->sampleLi(si.p, u);
+    std::optional<LightSample> ls = chosen->light->sampleLi(si, u);
     if (!ls || isBlack(ls->Li)) return Color(0.0f);
     Color f = m.f(wo, ls->wi, si.n);
     if (isBlack(f) || !unoccluded(si, *ls, ctx)) return Color(0.0f);

@@ -4,7 +4,7 @@
 
 namespace caustic {
 
-float PathIntegrator::emissionWeight(const Vec3& from, float bsdfPdf,
+float PathIntegrator::emissionWeight(const LightSampleContext& from, float bsdfPdf,
                                      const SurfaceInteraction& at) const {
     // Without light sampling only the BSDF finds emitters.
     if (!options_.lightSampling) return 1.0f;
@@ -21,7 +21,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
     // The previous vertex: whether it scattered specularly, its BSDF density and position.
     bool specularBounce = true;
     float bsdfPdf = 0.0f;
-    Vec3 from(0.0f);
+    LightSampleContext from(cameraRay.o);
 
     for (int depth = 0;; ++depth) {
         std::optional<Hit> hit = intersect(ray, ctx);
@@ -52,7 +52,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         beta *= bs->weight;
         specularBounce = bs->specular;
         bsdfPdf = bs->pdf;
-        from = si.p;
+        from = si;
         ray = spawnRay(si, bs->wi);
 
         // Russian roulette: continue with probability max(beta), then divide it out, so that a

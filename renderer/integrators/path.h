@@ -26,7 +26,8 @@ public:
 private:
     /// The weight of emission Le found by a BSDF-sampled ray from `from` (density bsdfPdf) that
     /// hit emitter `at`.
-    float emissionWeight(const Vec3& from, float bsdfPdf, const SurfaceInteraction& at) const;
+    float emissionWeight(const LightSampleContext& from, float bsdfPdf,
+                         const SurfaceInteraction& at) const;
 
     Options options_;
 };

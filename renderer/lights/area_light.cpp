@@ -2,12 +2,13 @@
 
 namespace caustic {
 
-std::optional<LightSample> AreaLight::sampleLi(const Vec3& ref, Vec2 u) const {
+std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ref, Vec2 u) const {
     const Sphere* s = sphere();
     float conePdf = 0.0f;
-    std::optional<SurfaceSample> cone = s ? s->sampleCone(ref, u, conePdf) : std::nullopt;
+    std::optional<SurfaceSample> cone =
+        s ? s->sampleCone(coneApex(*s, ref), u, conePdf) : std::nullopt;
     SurfaceSample at = cone ? *cone : geometry_.sample(prim_, u);
-    Vec3 d = at.p - ref;
+    Vec3 d = at.p - ref.p;
     float dist2 = glm::dot(d, d);
     if (!(dist2 > 0.0f)) return std::nullopt;
     Vec3 wi = d / std::sqrt(dist2);
@@ -24,12 +25,12 @@ std::optional<LightSample> AreaLight::sampleLi(const Vec3& ref, Vec2 u) const {
     return ls;
 }
 
-float AreaLight::pdfLi(const Vec3& ref, const SurfaceInteraction& at) const {
+float AreaLight::pdfLi(const LightSampleContext& ref, const SurfaceInteraction& at) const {
     if (const Sphere* s = sphere()) {
-        float conePdf = s->coneSolidAnglePdf(ref);
+        float conePdf = s->coneSolidAnglePdf(coneApex(*s, ref));
         if (conePdf > 0.0f) return conePdf;
     }
-    Vec3 d = at.p - ref;
+    Vec3 d = at.p - ref.p;
     float dist2 = glm::dot(d, d);
     float cosLight = std::abs(glm::dot(d, at.n)) / std::sqrt(dist2);
     float pdf = dist2 / (cosLight * geometry_.area(prim_));

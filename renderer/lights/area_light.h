@@ -13,14 +13,20 @@ public:
 
     /// Samples a sphere seen from outside uniformly in the cone of directions it subtends; any
     /// other primitive (and a sphere from inside) uniformly by area, converted to solid angle.
-    std::optional<LightSample> sampleLi(const Vec3& ref, Vec2 u) const override;
-    float pdfLi(const Vec3& ref, const SurfaceInteraction& at) const override;
+    std::optional<LightSample> sampleLi(const LightSampleContext& ref, Vec2 u) const override;
+    float pdfLi(const LightSampleContext& ref, const SurfaceInteraction& at) const override;
     /// Le * area * pi: a one-sided Lambertian emitter.
     Color power() const override { return Le_ * geometry_.area(prim_) * kPi; }
     bool isDelta() const override { return false; }
     uint32_t prim() const { return prim_; }
 
 private:
+    /// The apex of the cone of directions towards sphere s: ref moved towards its center by ref's
+    /// error bound, so that a point on s (within rounding) counts as inside (pbrt-v4,
+    /// Sphere::Sample). Cone and area sampling then choose alike in sampleLi and pdfLi.
+    static Vec3 coneApex(const Sphere& s, const LightSampleContext& ref) {
+        return offsetRayOrigin(ref.p, ref.pError, ref.n, s.center - ref.p);
+    }
     /// The sphere this light is, or nullptr for a quad or triangle.
     const Sphere* sphere() const {
         return geometry_.kind(prim_) == PrimKind::Sphere

@@ -4,9 +4,24 @@
 #include <optional>
 
 #include "core/math.h"
+#include "core/ray.h"
 #include "geometry/hit.h"
 
 namespace caustic {
+
+/// The point light arrives at: a surface point with its rounding-error bound and normal (both zero
+/// for a point in space). Lights that choose a sampling strategy by where the point lies (inside
+/// or outside a sphere) decide with the error bound, so that a point on the surface is never taken
+/// for one off it.
+struct LightSampleContext {
+    Vec3 p;
+    Vec3 pError{0.0f};
+    Vec3 n{0.0f};
+
+    LightSampleContext(const Vec3& point) : p(point) {}  // NOLINT: a point in space converts
+    LightSampleContext(const SurfaceInteraction& si)
+        : p(si.p), pError(si.pError), n(si.n) {}  // NOLINT
+};
 
 /// Incident light at a reference point from a sampled point on a light.
 struct LightSample {
@@ -21,11 +36,11 @@ public:
     virtual ~Light() = default;
     /// Samples incident light at world point `ref` from a 2D sample u in [0,1)^2; nullopt when no
     /// light can arrive (the back of an emitter, a zero density). Ignores occlusion. Thread-safe.
-    virtual std::optional<LightSample> sampleLi(const Vec3& ref, Vec2 u) const = 0;
+    virtual std::optional<LightSample> sampleLi(const LightSampleContext& ref, Vec2 u) const = 0;
     /// The solid-angle density with which sampleLi(ref, .) returns the direction towards `at`, a
     /// point on this light that a ray from ref reached (for multiple importance sampling). Zero
     /// for delta lights.
-    virtual float pdfLi(const Vec3& ref, const SurfaceInteraction& at) const = 0;
+    virtual float pdfLi(const LightSampleContext& ref, const SurfaceInteraction& at) const = 0;
     /// Total emitted power in watts per channel, for choosing lights in proportion to power.
     virtual Color power() const = 0;
     /// True for lights that cannot be hit by a ray (point lights).

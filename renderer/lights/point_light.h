@@ -10,8 +10,8 @@ public:
     PointLight(const Vec3& position, const Color& intensity)
         : position_(position), intensity_(intensity) {}
 
-    std::optional<LightSample> sampleLi(const Vec3& ref, Vec2) const override {
-        Vec3 d = position_ - ref;
+    std::optional<LightSample> sampleLi(const LightSampleContext& ref, Vec2) const override {
+        Vec3 d = position_ - ref.p;
         float dist2 = glm::dot(d, d);
         if (dist2 == 0.0f) return std::nullopt;
         LightSample s;
@@ -21,7 +21,9 @@ public:
         s.at = SurfaceSample{position_, Vec3(0.0f), Vec3(0.0f), 1.0f};
         return s;
     }
-    float pdfLi(const Vec3&, const SurfaceInteraction&) const override { return 0.0f; }
+    float pdfLi(const LightSampleContext&, const SurfaceInteraction&) const override {
+        return 0.0f;
+    }
     Color power() const override { return 4.0f * kPi * intensity_; }
     bool isDelta() const override { return true; }
     const Vec3& position() const { return position_; }
