@@ -11,8 +11,8 @@ namespace caustic {
 struct Hit {
     float t = kInfinity;  ///< Distance along the ray, in units of |d|.
     uint32_t prim = 0;    ///< Primitive index in the scene's Geometry.
-    Vec2 uv{0.0f};        ///< Surface parameters: sphere (phi, theta)/(2pi, pi); quad (s, t);
-                          ///< triangle barycentrics (b1, b2) of vertices 1 and 2.
+    Vec2 uv{0.0f};        ///< Surface parameters: quad (s, t); triangle barycentrics (b1, b2) of
+                          ///< vertices 1 and 2; sphere (0, 0) (Sphere::uv gives its parameters).
     Vec3 n{0.0f};         ///< Unit geometric normal on the primitive's front side (not flipped
                           ///< towards the ray).
 };

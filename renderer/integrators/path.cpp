@@ -17,6 +17,9 @@ float PathIntegrator::emissionWeight(const LightSampleContext& from, float bsdfP
 
 Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
     Color L(0.0f), beta(1.0f);
+    // The product of eta^2 over the path's refractions: beta * etaScale is the throughput without
+    // the radiance scaling of refraction, which Russian roulette must not see (pbrt-v4 13.4.3).
+    float etaScale = 1.0f;
     Ray ray = cameraRay;
     // The previous vertex: whether it scattered specularly, its BSDF density and position.
     bool specularBounce = true;
@@ -50,15 +53,16 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         std::optional<BsdfSample> bs = m.sample(wo, si.n, uc, u, TransportMode::Radiance);
         if (!bs || isBlack(bs->weight)) break;
         beta *= bs->weight;
+        etaScale *= sqr(bs->eta);
         specularBounce = bs->specular;
         bsdfPdf = bs->pdf;
         from = si;
         ray = spawnRay(si, bs->wi);
 
-        // Russian roulette: continue with probability max(beta), then divide it out, so that a
-        // path's weight stays near 1 (pbrt-v4 13.4.3).
+        // Russian roulette: continue with the probability of the throughput, then divide it out,
+        // so that a path's weight stays near 1 (pbrt-v4 13.4.3).
         if (depth + 1 >= options_.rrDepth) {
-            float q = maxComponent(beta);
+            float q = maxComponent(beta) * etaScale;
             if (q < 1.0f) {
                 if (ctx.rng.uniform() >= q) break;
                 beta /= q;

@@ -46,6 +46,9 @@ std::optional<BsdfSample> Dielectric::sample(const Vec3& wo, const Vec3& n, floa
     float cosI = std::abs(glm::dot(s.wi, n));
     s.f = cosI > 0.0f ? lobes[pick].weight / cosI : Color(0.0f);
     s.specular = true;
+    // Transmitted when wi leaves on the far side of wo.
+    if (glm::dot(s.wi, n) * glm::dot(wo, n) < 0.0f)
+        s.eta = glm::dot(wo, n) > 0.0f ? ior_ : 1.0f / ior_;
     if (cosI == 0.0f) return std::nullopt;
     return s;
 }

@@ -20,6 +20,9 @@ struct BsdfSample {
     float pdf = 0.0f;  ///< Solid-angle density; for a specular lobe, its selection probability.
     Color weight;      ///< f |cos theta_i| / pdf: the factor the path throughput is multiplied by.
     bool specular = false;
+    /// For a transmitted sample, the ratio of the indices of refraction, far side over near side
+    /// (pbrt-v4 BSDFSample::eta); 1 otherwise. In Radiance mode `weight` holds 1 / eta^2.
+    float eta = 1.0f;
 };
 
 /// One deterministic specular branch (for Whitted tracing): direction and its full weight.
