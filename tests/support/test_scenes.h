@@ -1,6 +1,8 @@
-// Helpers shared by renderer tests: load scenes from JSON text, render them small.
+// Helpers shared by renderer tests: build scenes from JSON text, render them small, and name a
+// pixel value in a failure message.
 #pragma once
 
+#include <array>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -32,6 +34,47 @@ inline nlohmann::json exampleScene(const std::string& name, int width = 0, int h
 /// Settings from JSON over the defaults, with the scene's own settings ignored.
 inline RenderSettings settingsFrom(const nlohmann::json& j) {
     return parseSettings(j);
+}
+
+/// "pixel (x, y) channel c: mean +- se", for failure messages.
+inline std::string pixelValueText(int x, int y, int c, float mean, float se) {
+    return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") channel " +
+           std::to_string(c) + ": " + std::to_string(mean) + " +- " + std::to_string(se);
+}
+
+/// `base` with `patch` merged in (RFC 7386). Not named `patched`: the scene loader tests' patched
+/// (renderer/scene/base_scene.h) takes a JSON pointer and a value, and a call with a string
+/// literal would be ambiguous between the two.
+inline nlohmann::json mergePatched(nlohmann::json base, const nlohmann::json& patch) {
+    base.merge_patch(patch);
+    return base;
+}
+
+/// The emission of emissiveWallScene's wall.
+constexpr std::array<double, 3> kEmissiveWallLe = {0.9, 0.5, 0.2};
+
+/// An emissive wall of albedo 0 filling the view of a `size` x `size` image, optionally with a
+/// dielectric sphere of IOR 1 in front of it. Albedo 0 ends every path at the wall (the diffuse
+/// sample has weight 0, and light samples there are 0), so each sample is exactly the wall's Le
+/// (kEmissiveWallLe), with or without the sphere.
+inline nlohmann::json emissiveWallScene(bool withIorOneSphere, int size) {
+    nlohmann::json doc = nlohmann::json::parse(R"({
+      "camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "fov": 30},
+      "materials": {
+        "wall": {"type": "diffuse", "albedo": [0, 0, 0], "emission": [0.9, 0.5, 0.2]},
+        "air": {"type": "dielectric", "ior": 1.0}
+      },
+      "shapes": [{"type": "quad", "origin": [-10, -10, -2], "u": [20, 0, 0], "v": [0, 20, 0],
+                  "material": "wall"}]
+    })");
+    doc["camera"]["width"] = size;
+    doc["camera"]["height"] = size;
+    if (withIorOneSphere)
+        doc["shapes"].push_back({{"type", "sphere"},
+                                 {"center", {0.1, -0.1, 0.5}},
+                                 {"radius", 0.7},
+                                 {"material", "air"}});
+    return doc;
 }
 
 }  // namespace caustic::testing

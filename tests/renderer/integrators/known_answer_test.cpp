@@ -10,18 +10,14 @@ namespace caustic {
 namespace {
 
 using nlohmann::json;
+using testing::emissiveWallScene;
+using testing::mergePatched;
 using testing::sceneFromJson;
 using testing::settingsFrom;
 
-// `base` with `patch` merged in (RFC 7386).
-json patched(json base, const json& patch) {
-    base.merge_patch(patch);
-    return base;
-}
-
 // A diffuse plane y = 0 under a point light at height h, seen obliquely from above.
 json pointLightOverPlane(int width, int height) {
-    return patched(json::parse(R"({
+    return mergePatched(json::parse(R"({
       "camera": {"position": [0, 2, 2.5], "look_at": [0, 0, 0], "fov": 40,
                  "width": 0, "height": 0},
       "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.25, 0.75]}},
@@ -29,7 +25,7 @@ json pointLightOverPlane(int width, int height) {
                   "material": "white"}],
       "lights": [{"type": "point", "position": [0.3, 1.0, -0.2], "intensity": [10, 20, 5]}]
     })"),
-                   {{"camera", {{"width", width}, {"height", height}}}});
+                        {{"camera", {{"width", width}, {"height", height}}}});
 }
 
 // The scene's camera position: the loader stores positions relative to it.
@@ -92,29 +88,10 @@ TEST_P(PointLightPlane, EveryPixelMatchesTheAnalyticRadiance) {
 
 INSTANTIATE_TEST_SUITE_P(Integrators, PointLightPlane, ::testing::Values("raycast", "whitted"));
 
-// An emissive wall filling the view, optionally with a dielectric sphere of IOR 1 in front of it.
-json wallWithSphere(bool withSphere) {
-    json doc = json::parse(R"({
-      "camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "fov": 30, "width": 40, "height": 40},
-      "materials": {
-        "wall": {"type": "diffuse", "albedo": [0, 0, 0], "emission": [0.9, 0.5, 0.2]},
-        "air": {"type": "dielectric", "ior": 1.0}
-      },
-      "shapes": [{"type": "quad", "origin": [-10, -10, -2], "u": [20, 0, 0], "v": [0, 20, 0],
-                  "material": "wall"}]
-    })");
-    if (withSphere)
-        doc["shapes"].push_back({{"type", "sphere"},
-                                 {"center", {0.1, -0.1, 0.5}},
-                                 {"radius", 0.7},
-                                 {"material", "air"}});
-    return doc;
-}
-
 TEST(Dielectric, SphereOfIorOneLeavesTheImageUnchanged) {
     RenderSettings settings = settingsFrom({{"integrator", "whitted"}, {"spp", 4}});
-    auto plain = sceneFromJson(wallWithSphere(false));
-    auto withSphere = sceneFromJson(wallWithSphere(true));
+    auto plain = sceneFromJson(emissiveWallScene(false, 40));
+    auto withSphere = sceneFromJson(emissiveWallScene(true, 40));
     std::vector<float> a = render(*plain, settings).film->meanRgb();
     RenderResult r = render(*withSphere, settings);
     std::vector<float> b = r.film->meanRgb();
@@ -130,14 +107,14 @@ TEST(Determinism, SameImageWithOneAndTwoThreads) {
     auto scene = sceneFromJson(testing::exampleScene("cornell-spheres", 64, 48));
     for (const char* integrator : {"raycast", "whitted"}) {
         json base{{"integrator", integrator}, {"spp", 8}, {"seed", 17}};
-        RenderResult one = render(*scene, settingsFrom(patched(base, {{"threads", 1}})));
-        RenderResult two = render(*scene, settingsFrom(patched(base, {{"threads", 2}})));
+        RenderResult one = render(*scene, settingsFrom(mergePatched(base, {{"threads", 1}})));
+        RenderResult two = render(*scene, settingsFrom(mergePatched(base, {{"threads", 2}})));
         std::vector<float> a = one.film->meanRgb(), b = two.film->meanRgb();
         ASSERT_EQ(a.size(), b.size());
         EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0) << integrator;
         EXPECT_EQ(one.stats.rays, two.stats.rays) << integrator;
         // A different seed gives a different image (the seed is really used).
-        RenderResult other = render(*scene, settingsFrom(patched(base, {{"seed", 18}})));
+        RenderResult other = render(*scene, settingsFrom(mergePatched(base, {{"seed", 18}})));
         std::vector<float> c = other.film->meanRgb();
         EXPECT_NE(std::memcmp(a.data(), c.data(), a.size() * sizeof(float)), 0) << integrator;
     }

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "accel/accelerator.h"
+#include "support/scene_transform.h"
 #include "support/test_scenes.h"
 
 namespace caustic {
@@ -20,10 +21,13 @@ namespace {
 
 using nlohmann::json;
 using testing::exampleScene;
+using testing::pixelValueText;
 using testing::sceneFromJson;
 using testing::settingsFrom;
+using testing::transformedScene;
 
-/// A uniform scale s about the origin followed by a translation t: p -> s p + t.
+/// A uniform scale s about the origin followed by a translation t: p -> s p + t (transformedScene,
+/// support/scene_transform.h).
 struct Similarity {
     const char* name;
     double s;
@@ -40,53 +44,6 @@ constexpr Similarity kTransforms[] = {
     {"Small", 1e-3, 0.0}, {"Large", 1e3, 0.0},   {"Tiny", 1e-4, 0.0},     {"Huge", 1e4, 0.0},
     {"Far", 1.0, 1e4},    {"Farther", 1.0, 1e5}, {"SmallFar", 1e-3, 1e5}, {"LargeFar", 1e3, 1e5},
 };
-
-json transformedPoint(const json& p, const Similarity& x) {
-    return json::array({x.s * p[0].get<double>() + x.t, x.s * p[1].get<double>() + x.t,
-                        x.s * p[2].get<double>() + x.t});
-}
-
-json scaledVector(const json& v, double s) {
-    return json::array({s * v[0].get<double>(), s * v[1].get<double>(), s * v[2].get<double>()});
-}
-
-// The scene document `doc` under `x`, computed in double and rounded to float once, by the loader.
-// Positions map as points, edge vectors and radii scale by s, directions (up) and angles (fov)
-// stay. Radiance (emission, background) is invariant; a point light's intensity scales by s^2 so
-// that its irradiance I cos(theta) / d^2 is unchanged.
-json transformedScene(json doc, const Similarity& x) {
-    json& camera = doc["camera"];
-    camera["position"] = transformedPoint(camera["position"], x);
-    camera["look_at"] = transformedPoint(camera["look_at"], x);
-    for (json& shape : doc["shapes"]) {
-        std::string type = shape["type"].get<std::string>();
-        if (type == "sphere") {
-            shape["center"] = transformedPoint(shape["center"], x);
-            shape["radius"] = x.s * shape["radius"].get<double>();
-        } else if (type == "quad") {
-            shape["origin"] = transformedPoint(shape["origin"], x);
-            shape["u"] = scaledVector(shape["u"], x.s);
-            shape["v"] = scaledVector(shape["v"], x.s);
-        } else if (type == "triangle") {
-            for (json& p : shape["vertices"]) p = transformedPoint(p, x);
-        } else {
-            // A mesh maps p to R(S p) + t; composed with x: scale s S, translation s t + x.t.
-            json& t = shape["transform"];
-            json scale = t.contains("scale") ? t["scale"] : json(1.0);
-            t["scale"] =
-                scale.is_number() ? json(x.s * scale.get<double>()) : scaledVector(scale, x.s);
-            json translate = t.contains("translate") ? t["translate"] : json::array({0, 0, 0});
-            t["translate"] = transformedPoint(translate, x);
-        }
-    }
-    if (doc.contains("lights")) {
-        for (json& light : doc["lights"]) {
-            light["position"] = transformedPoint(light["position"], x);
-            light["intensity"] = scaledVector(light["intensity"], x.s * x.s);
-        }
-    }
-    return doc;
-}
 
 // The per-pixel comparison. Each film is the mean of 64 independent passes, so its standard error
 // estimates the noise of each pixel; under "same image" the difference of two films is noise of
@@ -138,10 +95,8 @@ Comparison compare(const Film& a, const Film& b) {
                     double excess = tol > 0 ? diff / tol : kInfinity;
                     if (excess > worstExcess) {
                         worstExcess = excess;
-                        r.worst = "pixel (" + std::to_string(x) + ", " + std::to_string(y) +
-                                  ") channel " + std::to_string(c) + ": " + std::to_string(ma[c]) +
-                                  " +- " + std::to_string(sa[c]) + " vs " + std::to_string(mb[c]) +
-                                  " +- " + std::to_string(sb[c]);
+                        r.worst = pixelValueText(x, y, c, ma[c], sa[c]) + " vs " +
+                                  std::to_string(mb[c]) + " +- " + std::to_string(sb[c]);
                     }
                 }
             }
@@ -168,7 +123,7 @@ TEST_P(ScaleInvariance, TransformedSceneRendersTheSameImage) {
     for (const Similarity& x : kTransforms) {
         SCOPED_TRACE(std::string(x.name) + ": scale " + std::to_string(x.s) + ", translation " +
                      std::to_string(x.t));
-        RenderResult r = render(*sceneFromJson(transformedScene(original, x)), settings);
+        RenderResult r = render(*sceneFromJson(transformedScene(original, x.s, x.t)), settings);
         ASSERT_EQ(r.film->passes(), 64);
         EXPECT_EQ(r.stats.droppedSamples, 0u);
         Comparison c = compare(*reference.film, *r.film);
