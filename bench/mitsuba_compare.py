@@ -1,0 +1,313 @@
+#!/usr/bin/env python3
+"""Caustic's path integrator against Mitsuba 3 (scalar_rgb) on one scene at equal spp.
+
+Renders the scene with both, interleaved, --repeats times; prints Markdown with the time ratio
+(Mitsuba / Caustic) and each image's RMSE against a long high-spp reference that is cached under
+--cache-dir. The Mitsuba scene is translated from the Caustic scene JSON, so both see the same
+geometry, materials, camera and box pixel filter. See bench/README.md, "mitsuba_compare".
+"""
+import argparse
+import hashlib
+import json
+import os
+import resource
+import shlex
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+# numpy's OpenBLAS threads spin after start-up and would take CPU from Mitsuba's render; this
+# script needs no BLAS.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import mitsuba as mi  # noqa: E402
+import numpy as np  # noqa: E402
+
+mi.set_variant("scalar_rgb")
+REPO = Path(__file__).resolve().parent.parent
+REFERENCE_SEED = 1_000_003  # the timed runs use seeds 0 .. repeats-1, never this one
+
+
+def parse_args():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--caustic", default=str(REPO / "build/cli/caustic"), help="caustic binary")
+    p.add_argument("--scene", default=str(REPO / "scenes/cornell-spheres.json"))
+    p.add_argument("--size", type=int, default=256, help="image width and height")
+    p.add_argument("--spp", type=int, default=64)
+    p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--ref-spp", type=int, default=4096)
+    p.add_argument("--reference", choices=["caustic", "mitsuba", "both"], default="both",
+                   help="which renderers render a reference")
+    p.add_argument("--max-depth", type=int, default=16, help="Caustic's: most scattering events")
+    p.add_argument("--rr-depth", type=int, default=5, help="bounces before Russian roulette")
+    p.add_argument("--cache-dir", help="where references are kept "
+                   "(default: the caustic binary's build dir /mitsuba_compare)")
+    p.add_argument("--smoke", action="store_true",
+                   help="32x32, 4 spp, 16 spp references, 1 repeat (what CTest runs)")
+    args = p.parse_args()
+    if args.smoke:
+        args.size, args.spp, args.ref_spp, args.repeats = 32, 4, 16, 1
+    if args.cache_dir is None:
+        args.cache_dir = str(Path(args.caustic).resolve().parent.parent / "mitsuba_compare")
+    return args
+
+
+def load_scene(path, size):
+    """The Caustic scene with its camera resized (the resolution lives only in the JSON)."""
+    scene = json.loads(Path(path).read_text())
+    scene["camera"]["width"] = scene["camera"]["height"] = size
+    return scene
+
+
+def rgb(value):
+    return {"type": "rgb", "value": [float(c) for c in value]}
+
+
+def quad_to_world(q):
+    """Maps Mitsuba's rectangle ([-1,1]^2 in z=0, normal +z) onto origin + [0,1]u + [0,1]v.
+    The third column is the unit normal cross(u, v): the inverse transpose then sends +z to
+    cross(u, v), so Mitsuba's emitting front side is Caustic's."""
+    o, u, v = (np.asarray(q[k], dtype=float) for k in ("origin", "u", "v"))
+    n = np.cross(u, v)
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2] = u / 2, v / 2, n / np.linalg.norm(n)
+    m[:3, 3] = o + u / 2 + v / 2
+    return mi.ScalarTransform4f(m.tolist())
+
+
+def bsdf(material):
+    """Caustic's diffuse and mirror scatter from both sides; Mitsuba's only from the front, so
+    they are wrapped in 'twosided'. A dielectric is two-sided in both."""
+    kind = material["type"]
+    if kind == "diffuse":
+        return {"type": "twosided", "bsdf": {"type": "diffuse",
+                                             "reflectance": rgb(material.get("albedo", [0.5] * 3))}}
+    if kind == "mirror":
+        return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
+                "specular_reflectance": rgb(material.get("reflectance", [1, 1, 1]))}}
+    if kind == "dielectric":
+        if material.get("fresnel", "exact") != "exact":
+            sys.exit("mitsuba_compare: Mitsuba has no Schlick dielectric")
+        tint = rgb(material.get("tint", [1, 1, 1]))
+        return {"type": "dielectric", "int_ior": float(material.get("ior", 1.5)), "ext_ior": 1.0,
+                "specular_reflectance": tint, "specular_transmittance": tint}
+    sys.exit(f"mitsuba_compare: material type {kind!r} has no translation")
+
+
+def shape(s, materials):
+    material = materials[s["material"]]
+    if s["type"] == "quad":
+        out = {"type": "rectangle", "to_world": quad_to_world(s)}
+    elif s["type"] == "sphere":
+        out = {"type": "sphere", "center": [float(c) for c in s["center"]],
+               "radius": float(s["radius"]), "flip_normals": bool(s.get("flip_normals", False))}
+    else:
+        sys.exit(f"mitsuba_compare: shape type {s['type']!r} has no translation")
+    out["bsdf"] = bsdf(material)
+    if any(c > 0 for c in material.get("emission", [0, 0, 0])):
+        out["emitter"] = {"type": "area", "radiance": rgb(material["emission"])}
+    return out
+
+
+def mitsuba_dict(scene, spp, max_depth, rr_depth):
+    """The Mitsuba scene. Mitsuba's max_depth counts path segments (1: emitters seen directly),
+    Caustic's counts scattering events (1: direct light), hence the + 1. rr_depth means the same
+    in both: roulette starts after that many scattering events."""
+    if scene.get("lights") or any(scene.get("background", [0, 0, 0])):
+        sys.exit("mitsuba_compare: point lights and backgrounds have no translation")
+    cam = scene["camera"]
+    d = {"type": "scene",
+         "integrator": {"type": "path", "max_depth": max_depth + 1, "rr_depth": rr_depth},
+         "sensor": {"type": "perspective", "fov": float(cam.get("fov", 40)), "fov_axis": "y",
+                    "to_world": mi.ScalarTransform4f().look_at(
+                        origin=cam["position"], target=cam["look_at"], up=cam.get("up", [0, 1, 0])),
+                    "film": {"type": "hdrfilm", "width": cam["width"], "height": cam["height"],
+                             "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+                    "sampler": {"type": "independent", "sample_count": spp}}}
+    for i, s in enumerate(scene["shapes"]):
+        d[f"shape{i}"] = shape(s, scene["materials"])
+    return d
+
+
+def cpu_seconds(who):
+    """User + system CPU seconds of every thread of this process, or of its waited-for children:
+    less sensitive than wall time to other work on a shared machine."""
+    usage = resource.getrusage(who)
+    return usage.ru_utime + usage.ru_stime
+
+
+def render_mitsuba(scene, spp, seed, args):
+    """Returns (image, {load, render, cpu} seconds); cpu covers the load and the render."""
+    cpu0, t0 = cpu_seconds(resource.RUSAGE_SELF), time.perf_counter()
+    loaded = mi.load_dict(mitsuba_dict(scene, spp, args.max_depth, args.rr_depth))
+    t1 = time.perf_counter()
+    image = np.array(mi.render(loaded, spp=spp, seed=seed), dtype=np.float64)
+    t2 = time.perf_counter()
+    return image, {"load": t1 - t0, "render": t2 - t1,
+                   "cpu": cpu_seconds(resource.RUSAGE_SELF) - cpu0}
+
+
+def read_exr(path):
+    bitmap = mi.Bitmap(str(path)).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32,
+                                           srgb_gamma=False)
+    return np.array(bitmap, dtype=np.float64)
+
+
+def render_caustic(scene_path, spp, seed, args):
+    """Returns (image, stats dict, {wall, cpu} seconds of the whole process)."""
+    out, stats = scene_path.with_name("render.exr"), scene_path.with_name("stats.json")
+    cmd = [args.caustic, "render", str(scene_path), "-o", str(out), "--stats", str(stats),
+           "--no-progress", "--set", "integrator=path", "--set", f"spp={spp}",
+           "--set", f"seed={seed}", "--set", f"max_depth={args.max_depth}",
+           "--set", f"rr_depth={args.rr_depth}"]
+    cpu0, t0 = cpu_seconds(resource.RUSAGE_CHILDREN), time.perf_counter()
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        sys.exit(f"mitsuba_compare: {shlex.join(cmd)} failed:\n{done.stderr}")
+    process = {"wall": time.perf_counter() - t0,
+               "cpu": cpu_seconds(resource.RUSAGE_CHILDREN) - cpu0}
+    return read_exr(out), json.loads(stats.read_text())["stats"], process
+
+
+def reference(renderer, scene, scene_path, cache, args):
+    """The high-spp reference of one renderer, cached by everything that determines it."""
+    # Caustic's reference also depends on the binary: a rebuilt renderer renders it anew.
+    binary = hashlib.sha256(Path(args.caustic).read_bytes()).hexdigest() \
+        if renderer == "caustic" else mi.__version__
+    key = json.dumps([renderer, binary, scene, args.ref_spp, args.max_depth, args.rr_depth,
+                      REFERENCE_SEED], sort_keys=True)
+    path = cache / f"reference-{renderer}-{hashlib.sha256(key.encode()).hexdigest()[:16]}.npy"
+    if path.exists():
+        return np.load(path), "cached"
+    t0 = time.perf_counter()
+    if renderer == "caustic":
+        image = render_caustic(scene_path, args.ref_spp, REFERENCE_SEED, args)[0]
+    else:
+        image = render_mitsuba(scene, args.ref_spp, REFERENCE_SEED, args)[0]
+    np.save(path, image)
+    return image, f"rendered in {time.perf_counter() - t0:.0f} s"
+
+
+def rmse(a, b):
+    return float(np.sqrt(np.mean((a - b) ** 2)))
+
+
+def cpu_model():
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("model name"):
+            return line.split(":", 1)[1].strip()
+    return "unknown CPU"
+
+
+def main():
+    args = parse_args()
+    cache = Path(args.cache_dir)
+    cache.mkdir(parents=True, exist_ok=True)
+    scene = load_scene(args.scene, args.size)
+    # Caustic's scene copy and outputs live in a private folder: runs may overlap.
+    with tempfile.TemporaryDirectory() as scratch:
+        scene_path = Path(scratch) / "scene.json"
+        scene_path.write_text(json.dumps(scene))
+        measure(args, scene, scene_path, cache)
+
+
+def measure(args, scene, scene_path, cache):
+    # mitsuba_compare.sh passes the command it was run with; the venv's python is a detail.
+    command = os.environ.get("MITSUBA_COMPARE_COMMAND") or shlex.join(sys.argv)
+    print(f"Machine: nproc {os.cpu_count()}, {cpu_model()}, Mitsuba {mi.__version__} "
+          f"scalar_rgb. Command: `{command}`\n")
+    refs = {r: reference(r, scene, scene_path, cache, args)
+            for r in (["caustic", "mitsuba"] if args.reference == "both" else [args.reference])}
+    load_before = os.getloadavg()[0]
+
+    # One untimed warm-up each (page cache, Mitsuba's plugin loading), then interleaved pairs so
+    # that a slow spell on the shared machine hits both renderers.
+    render_caustic(scene_path, 1, 0, args)
+    render_mitsuba(scene, 1, 0, args)
+    runs = {"caustic": [], "mitsuba": []}
+    for seed in range(args.repeats):
+        image, stats, process = render_caustic(scene_path, args.spp, seed, args)
+        runs["caustic"].append({"image": image, "time": stats["render_seconds"] +
+                                stats["setup_seconds"], "stats": stats, **process})
+        image, seconds = render_mitsuba(scene, args.spp, seed, args)
+        runs["mitsuba"].append({"image": image, "time": seconds["render"],
+                                "wall": seconds["load"] + seconds["render"], **seconds})
+    report(args, refs, runs, (load_before, os.getloadavg()[0]))
+
+
+def median(runs, key):
+    return statistics.median(r[key] for r in runs)
+
+
+def ratio(runs, key, of=median):
+    """Mitsuba's over Caustic's: above 1, Caustic is faster."""
+    return of(runs["mitsuba"], key) / of(runs["caustic"], key)
+
+
+def smallest(runs, key):
+    return min(r[key] for r in runs)
+
+
+def report(args, refs, runs, loads):
+    c, m = runs["caustic"], runs["mitsuba"]
+    print(f"{Path(args.scene).stem}, {args.size}x{args.size}, {args.spp} spp, {args.repeats} "
+          f"repeats (seeds 0..{args.repeats - 1}), every core for both; Caustic max_depth "
+          f"{args.max_depth} = Mitsuba max_depth {args.max_depth + 1}, rr_depth {args.rr_depth} in "
+          f"both. Load average (1 min) {loads[0]:.2f} before, {loads[1]:.2f} after: above "
+          f"{os.cpu_count()}, other work shared the CPU and wall times stretch.\n")
+    print("| renderer | time s (median) | time s (min) | CPU s (median) | wall s (median) "
+          "| cores used | Mrays/s |")
+    print("|---|---|---|---|---|---|---|")
+    rays = statistics.median(r["stats"]["rays"] / r["stats"]["render_seconds"] for r in c)
+    for name, rs, mrays in (("Caustic", c, f"{rays / 1e6:.2f}"), ("Mitsuba 3", m, "–")):
+        print(f"| {name} | {median(rs, 'time'):.3f} | {smallest(rs, 'time'):.3f} | "
+              f"{median(rs, 'cpu'):.3f} | {median(rs, 'wall'):.3f} | "
+              f"{median(rs, 'cpu') / median(rs, 'wall'):.2f} of {os.cpu_count()} | {mrays} |")
+    print(f"\ntime: Caustic's render + setup (`--stats`), Mitsuba's `mi.render` (its scene load, "
+          f"median {median(m, 'load'):.3f} s, apart). CPU (user + system) and wall: Caustic's "
+          f"whole process (start-up, scene, EXR out), Mitsuba's load + render.\n")
+    speedup = ratio(runs, "time")
+    print(f"**Mitsuba / Caustic time: {speedup:.2f}x** (ratio of medians; of mins "
+          f"{ratio(runs, 'time', smallest):.2f}x; CPU {ratio(runs, 'cpu'):.2f}x; "
+          f"wall {ratio(runs, 'wall'):.2f}x).\n")
+
+    print(f"| RMSE, linear RGB, median of {args.repeats} | "
+          + " | ".join(f"vs {r} reference" for r in refs) + " |")
+    print("|---|" + "---|" * len(refs))
+    errors = {}
+    for name, rs in (("Caustic", c), ("Mitsuba 3", m)):
+        errors[name] = [statistics.median(rmse(r["image"], ref[0]) for r in rs)
+                        for ref in refs.values()]
+        print(f"| {name}, {args.spp} spp | " + " | ".join(f"{e:.5f}" for e in errors[name]) + " |")
+    print()
+    for r, (image, how) in refs.items():
+        unlike = ", unlike the timed runs" if r == "caustic" else ""
+        print(f"- {r} reference: {args.ref_spp} spp, seed {REFERENCE_SEED}{unlike}, {how}; "
+              f"mean {image.mean():.5f}.")
+    if len(refs) == 2:
+        # Noise falls as 1/sqrt(spp): without bias, two references differ by about this.
+        noise = np.hypot(errors["Caustic"][0], errors["Mitsuba 3"][0]) * np.sqrt(
+            args.spp / args.ref_spp)
+        print(f"- RMSE between the two references: "
+              f"{rmse(refs['caustic'][0], refs['mitsuba'][0]):.5f}; their noise alone would "
+              f"make it about {noise:.5f}.")
+    error_ratio = errors["Caustic"][0] / errors["Mitsuba 3"][0]
+    goal = "met" if speedup >= 5 and error_ratio <= 1 else "NOT met"
+    print(f"- Goal (at least 5x faster, RMSE no worse): **{goal}**: {speedup:.2f}x faster "
+          f"({speedup / 5:.0%} of the goal), Caustic RMSE / Mitsuba RMSE {error_ratio:.3f} "
+          f"(against the {next(iter(refs))} reference).")
+    stats = c[0]["stats"]
+    print(f"""
+Differences that remain (both estimators are unbiased, so both converge to the same image):
+- Russian roulette: both continue with probability max(throughput) * eta^2 (the throughput without
+  refraction's radiance scaling), Mitsuba capped at 0.95, Caustic at 1.
+- Emitter choice: Caustic by power, Mitsuba uniformly (one emitter in cornell-spheres: the same).
+- Caustic renders in passes ({stats['passes']} of {stats['spp'] // stats['passes']} spp here) to \
+estimate its own error; Mitsuba in one.
+- Random numbers: Caustic's PCG32 per sample vs Mitsuba's independent sampler.""")
+
+
+if __name__ == "__main__":
+    main()
