@@ -55,11 +55,11 @@ void sphereIntersect(const RTCIntersectFunctionNArguments* args) {
         auto t = sphere.intersect(ray, tfar);
         if (!t || *t < RTCRayN_tnear(rays, args->N, i)) continue;
         tfar = *t;
-        Vec3 n = sphere.normal(ray.o + *t * ray.d);
-        RTCHitN_Ng_x(hits, args->N, i) = n.x;
-        RTCHitN_Ng_y(hits, args->N, i) = n.y;
-        RTCHitN_Ng_z(hits, args->N, i) = n.z;
-        RTCHitN_u(hits, args->N, i) = 0.0f;  // finish() computes a sphere's uv
+        // No normal or uv: finish() computes the normal of the closest hit only, from our data.
+        RTCHitN_Ng_x(hits, args->N, i) = 0.0f;
+        RTCHitN_Ng_y(hits, args->N, i) = 0.0f;
+        RTCHitN_Ng_z(hits, args->N, i) = 0.0f;
+        RTCHitN_u(hits, args->N, i) = 0.0f;
         RTCHitN_v(hits, args->N, i) = 0.0f;
         RTCHitN_primID(hits, args->N, i) = args->primID;
         RTCHitN_geomID(hits, args->N, i) = args->geomID;
