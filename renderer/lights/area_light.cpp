@@ -1,5 +1,7 @@
 #include "lights/area_light.h"
 
+#include "core/sampling.h"
+
 namespace caustic {
 
 std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ref, Vec2 u) const {
@@ -23,6 +25,14 @@ std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ref, Ve
     ls.at = at;
     if (!std::isfinite(ls.pdf) || !(ls.pdf > 0.0f)) return std::nullopt;
     return ls;
+}
+
+std::optional<LightLeSample> AreaLight::sampleLe(Vec2 uPosition, Vec2 uDirection) const {
+    SurfaceSample at = geometry_.sample(prim_, uPosition);
+    Vec3 local = sampleCosineHemisphere(uDirection);
+    if (!(local.z > 0.0f)) return std::nullopt;
+    Vec3 w = fromLocal(local, at.n);
+    return LightLeSample{Ray{offsetRayOrigin(at.p, at.pError, at.n, w), w}, power()};
 }
 
 float AreaLight::pdfLi(const LightSampleContext& ref, const SurfaceInteraction& at) const {

@@ -15,6 +15,10 @@ public:
     /// other primitive (and a sphere from inside) uniformly by area, converted to solid angle.
     std::optional<LightSample> sampleLi(const LightSampleContext& ref, Vec2 u) const override;
     float pdfLi(const LightSampleContext& ref, const SurfaceInteraction& at) const override;
+    /// A point uniform by area and a cosine-weighted direction from its front side: the flux of a
+    /// sample is Le cos / ((1 / area) (cos / pi)) = Le pi area, the light's power, for every
+    /// sample.
+    std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const override;
     /// Le * area * pi: a one-sided Lambertian emitter.
     Color power() const override { return Le_ * geometry_.area(prim_) * kPi; }
     bool isDelta() const override { return false; }

@@ -31,6 +31,13 @@ struct LightSample {
     SurfaceSample at;  ///< The point on the light (normal zero for a point light).
 };
 
+/// A ray leaving a light, for photon tracing: its origin (offset off the emitter's surface) and
+/// direction, and the flux it carries, Le |cos| / (p(position) p(direction)) (pbrt-v4 12.1).
+struct LightLeSample {
+    Ray ray;
+    Color power;
+};
+
 class Light {
 public:
     virtual ~Light() = default;
@@ -41,6 +48,9 @@ public:
     /// point on this light that a ray from ref reached (for multiple importance sampling). Zero
     /// for delta lights.
     virtual float pdfLi(const LightSampleContext& ref, const SurfaceInteraction& at) const = 0;
+    /// Samples a ray of emitted light from two 2D samples in [0,1)^2 (position, direction);
+    /// nullopt when none can leave. Thread-safe.
+    virtual std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const = 0;
     /// Total emitted power in watts per channel, for choosing lights in proportion to power.
     virtual Color power() const = 0;
     /// True for lights that cannot be hit by a ray (point lights).

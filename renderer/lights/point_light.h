@@ -1,6 +1,7 @@
 // An isotropic point light of radiant intensity I (W/sr): irradiance I cos(theta) / d^2.
 #pragma once
 
+#include "core/sampling.h"
 #include "lights/light.h"
 
 namespace caustic {
@@ -23,6 +24,10 @@ public:
     }
     float pdfLi(const LightSampleContext&, const SurfaceInteraction&) const override {
         return 0.0f;
+    }
+    /// Uniform over the sphere of directions: the flux of a sample is 4 pi I.
+    std::optional<LightLeSample> sampleLe(Vec2, Vec2 uDirection) const override {
+        return LightLeSample{Ray{position_, sampleUniformSphere(uDirection)}, power()};
     }
     Color power() const override { return 4.0f * kPi * intensity_; }
     bool isDelta() const override { return true; }

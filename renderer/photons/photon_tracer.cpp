@@ -1,0 +1,89 @@
+#include "photons/photon_tracer.h"
+
+#include <algorithm>
+
+#include "core/rng.h"
+
+namespace caustic {
+namespace {
+
+// Photon paths are traced in chunks whose results are joined in chunk order, so the photon list
+// does not depend on the number of threads.
+constexpr uint64_t kChunk = 4096;
+// Random streams of photon paths, apart from camera samples (which use small sample indices).
+constexpr uint64_t kPhotonStream = uint64_t(1) << 62;
+
+struct Chunk {
+    std::vector<Photon> photons;
+    DVec3 emittedPower{0.0};
+    uint64_t rays = 0;
+};
+
+void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracingOptions& options,
+               uint64_t index, Chunk& out) {
+    Rng rng = Rng::forSample(options.seed, options.pass, index, kPhotonStream);
+    std::optional<SampledLight> chosen = scene.lightSampler.sample(rng.uniform());
+    Vec2 uPosition = rng.uniform2(), uDirection = rng.uniform2();
+    if (!chosen) return;
+    std::optional<LightLeSample> le = chosen->light->sampleLe(uPosition, uDirection);
+    if (!le) return;
+    // Each path carries its light's flux over the probability of its light and the path count.
+    Color beta = le->power / (chosen->pmf * float(options.photons));
+    out.emittedPower += DVec3(beta);
+    Ray ray = le->ray;
+    bool specularOnly = true;
+    for (int bounces = 0; bounces < options.maxDepth; ++bounces) {
+        ++out.rays;
+        std::optional<Hit> hit = accel.intersect(ray, kInfinity);
+        if (!hit) return;
+        SurfaceInteraction si = scene.geometry.interaction(ray, *hit);
+        const Material& m = *scene.materials[si.material];
+        Vec3 wo = -ray.d;
+        if (!m.isSpecular()) {
+            PhotonPath path = bounces == 0   ? PhotonPath::Direct
+                              : specularOnly ? PhotonPath::Caustic
+                                             : PhotonPath::Indirect;
+            out.photons.push_back(Photon{si.p, wo, beta, path});
+        }
+        float uc = rng.uniform();
+        Vec2 u = rng.uniform2();
+        std::optional<BsdfSample> bs = m.sample(wo, si.n, uc, u, TransportMode::Importance);
+        if (!bs || isBlack(bs->weight)) return;
+        // Russian roulette on the change of throughput, so a photon keeps its power while it can
+        // (pbrt-v4 15.1, SPPM photon pass).
+        Color next = beta * bs->weight;
+        float q = std::min(1.0f, maxComponent(next) / maxComponent(beta));
+        if (!(rng.uniform() < q)) return;
+        beta = next / q;
+        specularOnly = specularOnly && bs->specular;
+        ray = Ray{offsetRayOrigin(si.p, si.pError, si.n, bs->wi), bs->wi};
+    }
+}
+
+}  // namespace
+
+PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
+                           const PhotonTracingOptions& options) {
+    PhotonTracing result;
+    result.emitted = options.photons;
+    if (scene.lightSampler.empty() || options.photons == 0) return result;
+    const uint64_t chunks = (options.photons + kChunk - 1) / kChunk;
+    std::vector<Chunk> done(chunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (uint64_t c = 0; c < chunks; ++c) {
+        uint64_t end = std::min(options.photons, (c + 1) * kChunk);
+        for (uint64_t i = c * kChunk; i < end; ++i) tracePath(scene, accel, options, i, done[c]);
+    }
+    size_t total = 0;
+    for (const Chunk& c : done) total += c.photons.size();
+    result.photons.reserve(total);
+    for (Chunk& c : done) {
+        result.photons.insert(result.photons.end(), c.photons.begin(), c.photons.end());
+        result.emittedPower += c.emittedPower;
+        result.rays += c.rays;
+    }
+    return result;
+}
+
+}  // namespace caustic
+static_assert(sizeof(caustic::Photon) == 40, "Photon layout: see photon_tracer.h");

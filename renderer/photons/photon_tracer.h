@@ -1,0 +1,44 @@
+// Photon tracing (Jensen 1996; pbrt-v4 15.1 for the weights): photons leave the lights in
+// proportion to their power, scatter through every material with importance transport (no 1/eta^2
+// on refraction), are ended by Russian roulette, and are stored where they land on a non-specular
+// surface. Each stored photon is tagged by the path that brought it, so that an integrator can
+// take each part of the light once: direct (L D), caustic (L S+ D) and indirect (the rest).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "accel/accelerator.h"
+#include "scene/scene.h"
+
+namespace caustic {
+
+enum class PhotonPath : uint8_t { Direct, Caustic, Indirect };
+
+/// A photon stored on a surface: 40 bytes (plus 16 in a PhotonKdTree).
+struct Photon {
+    Vec3 p;
+    Vec3 wi;      ///< Unit direction it came from (pointing away from the surface).
+    Color power;  ///< Flux it carries, in watts per channel.
+    PhotonPath path;
+};
+
+struct PhotonTracingOptions {
+    uint64_t photons = 100000;  ///< Photon paths emitted.
+    int maxDepth = 16;          ///< Most scattering events on a photon path.
+    uint64_t seed = 0;
+    uint32_t pass = 0;  ///< Photon tracing of pass p is independent of every other pass.
+};
+
+struct PhotonTracing {
+    std::vector<Photon> photons;  ///< In emission order: the same for any thread count.
+    uint64_t emitted = 0;         ///< Paths emitted (every one, stored or not).
+    DVec3 emittedPower{0.0};      ///< Sum of the flux the paths left the lights with.
+    uint64_t rays = 0;
+};
+
+/// Traces `options.photons` photon paths from the scene's lights (none when nothing emits).
+PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
+                           const PhotonTracingOptions& options);
+
+}  // namespace caustic

@@ -1,0 +1,143 @@
+// Photon tracing: the flux leaving the lights is their power, photons are tagged by their path,
+// the list does not depend on the thread count, and stored flux follows the scattering albedo.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+
+#include "accel/accelerator.h"
+#include "photons/photon_tracer.h"
+#include "support/test_scenes.h"
+
+namespace caustic {
+namespace {
+
+using nlohmann::json;
+using testing::exampleScene;
+using testing::sceneFromJson;
+
+DVec3 totalLightPower(const Scene& scene) {
+    DVec3 sum(0.0);
+    for (const auto& light : scene.lights) sum += DVec3(light->power());
+    return sum;
+}
+
+PhotonTracing trace(const Scene& scene, uint64_t photons, uint64_t seed = 1) {
+    auto accel = createAccelerator("embree", scene.geometry);
+    PhotonTracingOptions o;
+    o.photons = photons;
+    o.seed = seed;
+    return tracePhotons(scene, *accel, o);
+}
+
+void expectRelativelyNear(const DVec3& got, const DVec3& expected, double tolerance) {
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c], expected[c], tolerance * std::abs(expected[c])) << "channel " << c;
+}
+
+TEST(PhotonTracer, EmittedFluxIsTheLightsPower) {
+    // Every emitted path carries power / (pmf N) = total / N: the sum is the total exactly, up to
+    // float rounding of the weights (~1e-7 relative each).
+    auto cornell = sceneFromJson(exampleScene("cornell-spheres"));
+    PhotonTracing t = trace(*cornell, 20000);
+    EXPECT_EQ(t.emitted, 20000u);
+    expectRelativelyNear(t.emittedPower, totalLightPower(*cornell), 1e-5);
+
+    // Lights of different kinds and colors, one of them dark. Lights are chosen by luminance, so
+    // the luminance of the emitted flux is exact; each channel is right in expectation, with the
+    // spread of a sum of N independent choices: per path, channel c carries P_lc / (pmf_l N) with
+    // probability pmf_l.
+    json doc = exampleScene("cornell-spheres");
+    doc["lights"] = json::parse(R"([
+        {"type": "point", "position": [0.5, 0.5, 0], "intensity": [3, 1, 2]},
+        {"type": "point", "position": [-0.5, 0.5, 0], "intensity": [0, 0, 0]}])");
+    auto mixed = sceneFromJson(doc);
+    const uint64_t n = 30000;
+    PhotonTracing m = trace(*mixed, n);
+    DVec3 total = totalLightPower(*mixed);
+    EXPECT_NEAR(luminance(Color(m.emittedPower)), luminance(Color(total)),
+                1e-5 * luminance(Color(total)));
+    for (int c = 0; c < 3; ++c) {
+        double secondMoment = 0;  // of one path's value, times n^2
+        for (size_t l = 0; l < mixed->lights.size(); ++l) {
+            double pmf = mixed->lightSampler.pmf(l), power = mixed->lights[l]->power()[c];
+            if (pmf > 0) secondMoment += power * power / pmf;
+        }
+        double se = std::sqrt((secondMoment - total[c] * total[c]) / double(n));
+        EXPECT_NEAR(m.emittedPower[c], total[c], 5 * se + 1e-5 * total[c]) << "channel " << c;
+    }
+}
+
+TEST(PhotonTracer, NothingEmitsNothingTraced) {
+    json doc = exampleScene("cornell-spheres");
+    doc["materials"]["lamp"].erase("emission");
+    PhotonTracing t = trace(*sceneFromJson(doc), 1000);
+    EXPECT_TRUE(t.photons.empty());
+    EXPECT_EQ(t.rays, 0u);
+}
+
+TEST(PhotonTracer, PathsAreTagged) {
+    auto cornell = sceneFromJson(exampleScene("cornell-spheres"));
+    PhotonTracing t = trace(*cornell, 50000);
+    size_t count[3] = {0, 0, 0};
+    for (const Photon& p : t.photons) ++count[int(p.path)];
+    // The lamp faces down onto diffuse walls: direct photons; the glass and mirror spheres make
+    // caustics; bounces make the rest.
+    EXPECT_GT(count[int(PhotonPath::Direct)], 10000u);
+    EXPECT_GT(count[int(PhotonPath::Caustic)], 100u);
+    EXPECT_GT(count[int(PhotonPath::Indirect)], 10000u);
+
+    // Without specular surfaces there are no caustics.
+    json doc = exampleScene("cornell-spheres");
+    doc["materials"]["mirror"] = {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}};
+    doc["materials"]["glass"] = {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}};
+    for (const Photon& p : trace(*sceneFromJson(doc), 20000).photons)
+        ASSERT_NE(p.path, PhotonPath::Caustic);
+}
+
+TEST(PhotonTracer, SameListOnAnyThreadCount) {
+    auto cornell = sceneFromJson(exampleScene("cornell-spheres"));
+    int before = omp_get_max_threads();
+    omp_set_num_threads(1);
+    PhotonTracing one = trace(*cornell, 10000);
+    omp_set_num_threads(2);
+    PhotonTracing two = trace(*cornell, 10000);
+    omp_set_num_threads(before);
+    ASSERT_EQ(one.photons.size(), two.photons.size());
+    for (size_t i = 0; i < one.photons.size(); ++i) {
+        ASSERT_EQ(one.photons[i].p, two.photons[i].p) << i;
+        ASSERT_EQ(one.photons[i].power, two.photons[i].power) << i;
+    }
+}
+
+TEST(PhotonTracer, StoredFluxFollowsTheAlbedoInAFurnace) {
+    // A closed diffuse sphere of albedo rho lit from its inside. Every path lands first on the
+    // wall (a direct photon carrying total / N), then bounces with probability rho (Russian
+    // roulette on the throughput change keeps the power): the number K of indirect photons of a
+    // path is geometric, P(K = k) = (1 - rho) rho^k (cut at max_depth - 1 = 15, which removes
+    // rho^16 = 1.5e-5 of the mean), mean rho / (1 - rho), variance rho / (1 - rho)^2.
+    const double rho = 0.5;
+    json doc = json::parse(R"({
+      "camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "width": 4, "height": 4},
+      "materials": {"wall": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5],
+                             "emission": [1, 2, 3]}},
+      "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "wall",
+                  "flip_normals": true}]
+    })");
+    auto scene = sceneFromJson(doc);
+    const uint64_t n = 200000;
+    PhotonTracing t = trace(*scene, n);
+    DVec3 direct(0.0), indirect(0.0);
+    for (const Photon& p : t.photons) {
+        ASSERT_NE(p.path, PhotonPath::Caustic);
+        (p.path == PhotonPath::Direct ? direct : indirect) += DVec3(p.power);
+    }
+    DVec3 total = totalLightPower(*scene);
+    expectRelativelyNear(direct, total, 1e-5);
+    // Indirect flux / total = mean of K; its standard error sqrt(var / n) = 0.32%: 5 of them.
+    double mean = rho / (1 - rho), se = std::sqrt(rho / ((1 - rho) * (1 - rho)) / double(n));
+    expectRelativelyNear(indirect, total * mean, 5 * se / mean);
+}
+
+}  // namespace
+}  // namespace caustic
