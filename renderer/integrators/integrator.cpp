@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/sampling.h"
 #include "integrators/path.h"
+#include "integrators/photon.h"
 #include "integrators/raycast.h"
 #include "integrators/whitted.h"
 #include "render/settings.h"
@@ -41,7 +42,7 @@ Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo
 }
 
 const std::vector<std::string>& integratorNames() {
-    static const std::vector<std::string> names{"raycast", "whitted", "path"};
+    static const std::vector<std::string> names{"raycast", "whitted", "path", "photon"};
     return names;
 }
 
@@ -56,6 +57,19 @@ std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerat
             scene, accel,
             PathIntegrator::Options{settings.maxDepth, settings.rrDepth, settings.lightSampling,
                                     settings.mis});
+    if (name == "photon") {
+        PhotonIntegrator::Options o;
+        o.photons = settings.photons;
+        o.estimate.k = settings.k;
+        o.estimate.radius = float(settings.radius);
+        o.estimate.kernel = settings.kernel == "box"    ? PhotonKernel::Box
+                            : settings.kernel == "cone" ? PhotonKernel::Cone
+                                                        : PhotonKernel::Simpson;
+        o.finalGather = settings.finalGather;
+        o.maxDepth = settings.maxDepth;
+        o.seed = settings.seed;
+        return std::make_unique<PhotonIntegrator>(scene, accel, o);
+    }
     std::string valid;
     for (const std::string& n : integratorNames()) valid += (valid.empty() ? "" : ", ") + n;
     throw InputError("/settings/integrator",

@@ -101,6 +101,55 @@ const std::vector<SettingSpec>& settingSpecs() {
              "Weight light and BSDF samples by the power heuristic. Off (with light_sampling on): "
              "direct light at non-specular vertices comes from light samples only.",
              {"path"}},
+            {"photons",
+             T::Integer,
+             d.photons,
+             1,
+             1e9,
+             {},
+             "photon paths/pass",
+             "Photon paths traced from the lights in each pass (each stored photon takes 56 "
+             "bytes).",
+             {"photon"}},
+            {"k",
+             T::Integer,
+             d.k,
+             1,
+             10000,
+             {},
+             "photons",
+             "Photons per density estimate (the k nearest), when radius is 0.",
+             {"photon"}},
+            {"radius",
+             T::Number,
+             d.radius,
+             0,
+             1e30,
+             {},
+             "scene units",
+             "Fixed density-estimation radius; 0 uses the k nearest photons instead.",
+             {"photon"}},
+            {"kernel",
+             T::String,
+             d.kernel,
+             0,
+             0,
+             {"box", "cone", "simpson"},
+             "",
+             "Density-estimation kernel: box (uniform), cone (1 - d/r) or simpson ((1 - "
+             "d^2/r^2)^2), "
+             "each normalized over its disk.",
+             {"photon"}},
+            {"final_gather",
+             T::Integer,
+             d.finalGather,
+             0,
+             4096,
+             {},
+             "rays",
+             "Final-gather rays per camera path for indirect light; 0 reads the global photon map "
+             "at the visible point.",
+             {"photon"}},
             {"accelerator",
              T::String,
              d.accelerator,
@@ -239,6 +288,11 @@ RenderSettings parseSettings(const Json& settings, const std::string& path) {
     r.rrDepth = values["rr_depth"].get<int>();
     r.lightSampling = values["light_sampling"].get<bool>();
     r.mis = values["mis"].get<bool>();
+    r.photons = values["photons"].get<int64_t>();
+    r.k = values["k"].get<int>();
+    r.radius = values["radius"].get<double>();
+    r.kernel = values["kernel"].get<std::string>();
+    r.finalGather = values["final_gather"].get<int>();
     r.accelerator = values["accelerator"].get<std::string>();
     r.seed = values["seed"].get<uint64_t>();
     r.threads = values["threads"].get<int>();
@@ -267,6 +321,11 @@ Json RenderSettings::toJson() const {
                 {"rr_depth", rrDepth},
                 {"light_sampling", lightSampling},
                 {"mis", mis},
+                {"photons", photons},
+                {"k", k},
+                {"radius", radius},
+                {"kernel", kernel},
+                {"final_gather", finalGather},
                 {"accelerator", accelerator},
                 {"seed", seed},
                 {"threads", threads},

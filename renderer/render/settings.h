@@ -24,6 +24,11 @@ struct RenderSettings {
     int rrDepth = 3;            ///< Path tracing: bounces before Russian roulette may end a path.
     bool lightSampling = true;  ///< Path tracing: next-event estimation.
     bool mis = true;            ///< Path tracing: power-heuristic MIS of light and BSDF samples.
+    int64_t photons = 200000;   ///< Photon mapping: photon paths traced per pass.
+    int k = 50;                 ///< Photon mapping: photons per density estimate.
+    double radius = 0;          ///< Photon mapping: fixed search radius; 0 uses the k nearest.
+    std::string kernel = "cone";         ///< Photon mapping: density-estimation kernel.
+    int finalGather = 0;                 ///< Photon mapping: final-gather rays per camera path.
     std::string accelerator = "embree";  // the fastest of the three today
     uint64_t seed = 0;
     int threads = 0;      ///< 0 uses every core.

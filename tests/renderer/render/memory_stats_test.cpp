@@ -52,6 +52,18 @@ TEST(MemoryStats, PathTracingBuildsNoPhotonMap) {
             << integrator;
 }
 
+TEST(MemoryStats, PhotonMappingReportsItsMaps) {
+    // 40 bytes a stored photon and 16 in its tree, for the global map and again for caustics (a
+    // glass sphere under the lamp makes some).
+    json doc = spheresOnly();
+    doc["materials"]["glass"] = {{"type", "dielectric"}, {"ior", 1.5}};
+    doc["shapes"].push_back(
+        {{"type", "sphere"}, {"center", {0, 1.8, 0}}, {"radius", 0.3}, {"material", "glass"}});
+    MemoryStats m = renderMemory(doc, {{"integrator", "photon"}, {"photons", 2000}, {"spp", 1}});
+    EXPECT_GT(m.photonMaps, 0u);
+    EXPECT_EQ(m.photonMaps % 56, 0u);
+}
+
 TEST(MemoryStats, SpheresBuildNoMeshStructures) {
     for (const std::string& accel : acceleratorNames()) {
         MemoryStats spheres = renderMemory(spheresOnly(), {{"accelerator", accel}, {"spp", 1}});

@@ -58,6 +58,11 @@ RenderSettings nonDefaultSettings() {
     s.rrDepth = 7;
     s.lightSampling = false;
     s.mis = false;
+    s.photons = 12345;
+    s.k = 7;
+    s.radius = 0.25;
+    s.kernel = "simpson";
+    s.finalGather = 3;
     s.accelerator = acceleratorNames().back();
     s.seed = 12345678901;
     s.threads = 3;

@@ -1,0 +1,95 @@
+#include "integrators/photon.h"
+
+#include <algorithm>
+
+namespace caustic {
+
+void PhotonIntegrator::beginPass(uint32_t pass) {
+    PhotonTracingOptions o;
+    o.photons = options_.photons;
+    o.maxDepth = options_.maxDepth;
+    o.seed = options_.seed;
+    o.pass = pass;
+    PhotonTracing traced = tracePhotons(scene_, accel_, o);
+    std::vector<Photon> caustics;
+    caustics.reserve(
+        size_t(std::count_if(traced.photons.begin(), traced.photons.end(),
+                             [](const Photon& p) { return p.path == PhotonPath::Caustic; })));
+    for (const Photon& p : traced.photons)
+        if (p.path == PhotonPath::Caustic) caustics.push_back(p);
+    // Free the previous pass's maps before building the next (peak memory: one pass's maps).
+    global_.reset();
+    caustic_.reset();
+    global_ = std::make_unique<PhotonMap>(std::move(traced.photons));
+    caustic_ = std::make_unique<PhotonMap>(std::move(caustics));
+}
+
+size_t PhotonIntegrator::memoryBytes() const {
+    return (global_ ? global_->memoryBytes() : 0) + (caustic_ ? caustic_->memoryBytes() : 0);
+}
+
+std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Color& beta,
+                                                                    bool& escaped,
+                                                                    SampleContext& ctx) const {
+    escaped = false;
+    for (int depth = 0; depth <= options_.maxDepth; ++depth) {
+        std::optional<Hit> hit = intersect(ray, ctx);
+        if (!hit) {
+            escaped = true;
+            return std::nullopt;
+        }
+        SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
+        const Material& m = *scene_.materials[si.material];
+        if (!m.isSpecular()) return si;
+        float uc = ctx.rng.uniform();
+        Vec2 u = ctx.rng.uniform2();
+        std::optional<BsdfSample> bs = m.sample(-ray.d, si.n, uc, u, TransportMode::Radiance);
+        if (!bs || isBlack(bs->weight)) return std::nullopt;
+        beta *= bs->weight;
+        ray = spawnRay(si, bs->wi);
+    }
+    return std::nullopt;
+}
+
+Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, const Material& m,
+                               SampleContext& ctx, std::vector<Neighbor>& scratch) const {
+    Color sum(0.0f);
+    for (int g = 0; g < options_.finalGather; ++g) {
+        float uc = ctx.rng.uniform();
+        Vec2 u = ctx.rng.uniform2();
+        std::optional<BsdfSample> bs = m.sample(wo, x.n, uc, u, TransportMode::Radiance);
+        if (!bs || isBlack(bs->weight)) continue;
+        Color beta = bs->weight;
+        bool escaped = false;
+        Ray ray = spawnRay(x, bs->wi);
+        std::optional<SurfaceInteraction> y = firstDiffuseHit(ray, beta, escaped, ctx);
+        // Emitters seen by gather rays are direct light or caustics at x: counted already.
+        if (!y) continue;
+        const Material& my = *scene_.materials[y->material];
+        sum +=
+            beta * global_->reflected(*y, -ray.d, my, options_.estimate, kAllPhotonPaths, scratch);
+    }
+    return sum / float(options_.finalGather);
+}
+
+Color PhotonIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
+    Color beta(1.0f);
+    bool escaped = false;
+    Ray in = ray;
+    std::optional<SurfaceInteraction> x = firstDiffuseHit(in, beta, escaped, ctx);
+    if (!x) return escaped ? beta * scene_.background : Color(0.0f);
+
+    const Material& m = *scene_.materials[x->material];
+    Vec3 wo = -in.d;
+    thread_local std::vector<Neighbor> scratch;
+    Color L = m.Le(wo, x->n) + sampleDirectLight(*x, wo, m, ctx);
+    L += caustic_->reflected(*x, wo, m, options_.estimate, kAllPhotonPaths, scratch);
+    if (options_.finalGather > 0)
+        L += gather(*x, wo, m, ctx, scratch);
+    else
+        L +=
+            global_->reflected(*x, wo, m, options_.estimate, maskOf(PhotonPath::Indirect), scratch);
+    return beta * L;
+}
+
+}  // namespace caustic

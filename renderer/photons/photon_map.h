@@ -1,0 +1,53 @@
+// A photon map: stored photons, a PhotonKdTree over their positions, and the density estimate of
+// reflected radiance (Jensen 2001, eq. 7.6): L(x, wo) ~ sum_p f(wo, wi_p) Phi_p K(|x - x_p|) over
+// the k nearest photons or those within a fixed radius, with a normalized kernel K.
+#pragma once
+
+#include <vector>
+
+#include "materials/material.h"
+#include "photons/photon_kdtree.h"
+#include "photons/photon_tracer.h"
+
+namespace caustic {
+
+/// Density-estimation kernels, each normalized to integrate to 1 over its disk (Jensen 2001, 7.2;
+/// Silverman 1986 for the biweight, which photon-mapping texts call Simpson's kernel).
+enum class PhotonKernel { Box, Cone, Simpson };
+
+struct PhotonEstimate {
+    int k = 50;           ///< Photons per estimate, when radius is 0.
+    float radius = 0.0f;  ///< Fixed search radius; 0 uses the k nearest.
+    PhotonKernel kernel = PhotonKernel::Cone;
+};
+
+/// Which photon paths an estimate counts (a bit per PhotonPath).
+using PhotonPathMask = unsigned;
+constexpr PhotonPathMask maskOf(PhotonPath p) {
+    return 1u << unsigned(p);
+}
+constexpr PhotonPathMask kAllPhotonPaths = 7u;
+
+class PhotonMap {
+public:
+    explicit PhotonMap(std::vector<Photon> photons);
+
+    /// Radiance reflected towards wo at si by material m from the photons around si.p whose path
+    /// is in `mask`. The radius is that of the k nearest of all photons (or the fixed one), so the
+    /// mask selects a component of one density estimate. `scratch` is reused between calls.
+    Color reflected(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
+                    const PhotonEstimate& estimate, PhotonPathMask mask,
+                    std::vector<Neighbor>& scratch) const;
+
+    size_t size() const { return photons_.size(); }
+    /// 40 bytes a photon plus 16 in the tree.
+    size_t memoryBytes() const {
+        return photons_.capacity() * sizeof(Photon) + tree_.memoryBytes();
+    }
+
+private:
+    std::vector<Photon> photons_;
+    PhotonKdTree tree_;
+};
+
+}  // namespace caustic
