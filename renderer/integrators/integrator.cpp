@@ -42,7 +42,7 @@ Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo
 }
 
 const std::vector<std::string>& integratorNames() {
-    static const std::vector<std::string> names{"raycast", "whitted", "path", "photon"};
+    static const std::vector<std::string> names{"raycast", "whitted", "path", "photon", "ppm"};
     return names;
 }
 
@@ -57,7 +57,7 @@ std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerat
             scene, accel,
             PathIntegrator::Options{settings.maxDepth, settings.rrDepth, settings.lightSampling,
                                     settings.mis});
-    if (name == "photon") {
+    if (name == "photon" || name == "ppm") {
         PhotonIntegrator::Options o;
         o.photons = settings.photons;
         o.estimate.k = settings.k;
@@ -68,6 +68,14 @@ std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerat
         o.finalGather = settings.finalGather;
         o.maxDepth = settings.maxDepth;
         o.seed = settings.seed;
+        if (name == "ppm") {
+            o.progressive = true;
+            o.alpha = float(settings.alpha);
+            o.finalGather = 0;
+            // Without a radius, start from 1/500 of the scene's diagonal.
+            if (!(o.estimate.radius > 0.0f))
+                o.estimate.radius = 0.002f * glm::length(accel.bounds().hi - accel.bounds().lo);
+        }
         return std::make_unique<PhotonIntegrator>(scene, accel, o);
     }
     std::string valid;

@@ -4,7 +4,16 @@
 
 namespace caustic {
 
+float PhotonIntegrator::progressiveRadius(float r0, float alpha, uint32_t pass) {
+    double r2 = double(r0) * double(r0);
+    for (uint32_t j = 1; j <= pass; ++j) r2 *= (double(j) - 1.0 + double(alpha)) / double(j);
+    return float(std::sqrt(r2));
+}
+
 void PhotonIntegrator::beginPass(uint32_t pass) {
+    passEstimate_ = options_.estimate;
+    if (options_.progressive)
+        passEstimate_.radius = progressiveRadius(options_.estimate.radius, options_.alpha, pass);
     PhotonTracingOptions o;
     o.photons = options_.photons;
     o.maxDepth = options_.maxDepth;
@@ -66,8 +75,7 @@ Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, cons
         // Emitters seen by gather rays are direct light or caustics at x: counted already.
         if (!y) continue;
         const Material& my = *scene_.materials[y->material];
-        sum +=
-            beta * global_->reflected(*y, -ray.d, my, options_.estimate, kAllPhotonPaths, scratch);
+        sum += beta * global_->reflected(*y, -ray.d, my, passEstimate_, kAllPhotonPaths, scratch);
     }
     return sum / float(options_.finalGather);
 }
@@ -83,12 +91,11 @@ Color PhotonIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
     Vec3 wo = -in.d;
     thread_local std::vector<Neighbor> scratch;
     Color L = m.Le(wo, x->n) + sampleDirectLight(*x, wo, m, ctx);
-    L += caustic_->reflected(*x, wo, m, options_.estimate, kAllPhotonPaths, scratch);
+    L += caustic_->reflected(*x, wo, m, passEstimate_, kAllPhotonPaths, scratch);
     if (options_.finalGather > 0)
         L += gather(*x, wo, m, ctx, scratch);
     else
-        L +=
-            global_->reflected(*x, wo, m, options_.estimate, maskOf(PhotonPath::Indirect), scratch);
+        L += global_->reflected(*x, wo, m, passEstimate_, maskOf(PhotonPath::Indirect), scratch);
     return beta * L;
 }
 

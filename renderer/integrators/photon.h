@@ -5,6 +5,12 @@
 // global map's indirect photons at x, or, with final gathering, from `final_gather` BSDF-sampled
 // rays whose first diffuse hits y look up every photon of the global map. Each part of the light
 // is counted once: direct L D, caustic L S+ D, indirect paths with a diffuse vertex before x.
+//
+// `ppm` is the same estimator with the memoryless progressive radius of Knaus & Zwicker (2011):
+// pass i (0-based) uses the fixed radius r_i with r_i^2 = r_0^2 prod_{j=1..i} (j - 1 + alpha) / j,
+// so that each pass is an independent estimate whose bias shrinks while its variance grows slowly
+// enough that the average of the passes converges to the right image. The radius depends only on
+// the pass index: passes can run on different workers.
 #pragma once
 
 #include <memory>
@@ -22,7 +28,12 @@ public:
         int finalGather = 0;  ///< Gather rays per camera path; 0 looks up the global map at x.
         int maxDepth = 16;
         uint64_t seed = 0;
+        bool progressive = false;  ///< ppm: radius per pass from estimate.radius and alpha.
+        float alpha = 2.0f / 3.0f;
     };
+
+    /// The radius of pass `pass` for initial radius r0 (Knaus & Zwicker 2011, eq. 20).
+    static float progressiveRadius(float r0, float alpha, uint32_t pass);
 
     PhotonIntegrator(const Scene& scene, const Accelerator& accel, const Options& options)
         : Integrator(scene, accel), options_(options) {}
@@ -41,6 +52,7 @@ private:
                  std::vector<Neighbor>& scratch) const;
 
     Options options_;
+    PhotonEstimate passEstimate_;  // this pass's estimate settings (the radius changes for ppm)
     std::unique_ptr<PhotonMap> global_;
     std::unique_ptr<PhotonMap> caustic_;
 };

@@ -110,7 +110,7 @@ const std::vector<SettingSpec>& settingSpecs() {
              "photon paths/pass",
              "Photon paths traced from the lights in each pass (each stored photon takes 56 "
              "bytes).",
-             {"photon"}},
+             {"photon", "ppm"}},
             {"k",
              T::Integer,
              d.k,
@@ -127,8 +127,10 @@ const std::vector<SettingSpec>& settingSpecs() {
              1e30,
              {},
              "scene units",
-             "Fixed density-estimation radius; 0 uses the k nearest photons instead.",
-             {"photon"}},
+             "photon: fixed density-estimation radius, 0 for the k nearest photons instead; ppm: "
+             "the "
+             "first pass's radius, 0 for 1/500 of the scene's diagonal.",
+             {"photon", "ppm"}},
             {"kernel",
              T::String,
              d.kernel,
@@ -139,7 +141,7 @@ const std::vector<SettingSpec>& settingSpecs() {
              "Density-estimation kernel: box (uniform), cone (1 - d/r) or simpson ((1 - "
              "d^2/r^2)^2), "
              "each normalized over its disk.",
-             {"photon"}},
+             {"photon", "ppm"}},
             {"final_gather",
              T::Integer,
              d.finalGather,
@@ -150,6 +152,16 @@ const std::vector<SettingSpec>& settingSpecs() {
              "Final-gather rays per camera path for indirect light; 0 reads the global photon map "
              "at the visible point.",
              {"photon"}},
+            {"alpha",
+             T::Number,
+             d.alpha,
+             0.01,
+             1,
+             {},
+             "",
+             "Progressive photon mapping: pass i's squared radius is the previous one times "
+             "(i - 1 + alpha) / i (Knaus & Zwicker 2011); smaller alpha shrinks it faster.",
+             {"ppm"}},
             {"accelerator",
              T::String,
              d.accelerator,
@@ -293,6 +305,7 @@ RenderSettings parseSettings(const Json& settings, const std::string& path) {
     r.radius = values["radius"].get<double>();
     r.kernel = values["kernel"].get<std::string>();
     r.finalGather = values["final_gather"].get<int>();
+    r.alpha = values["alpha"].get<double>();
     r.accelerator = values["accelerator"].get<std::string>();
     r.seed = values["seed"].get<uint64_t>();
     r.threads = values["threads"].get<int>();
@@ -326,6 +339,7 @@ Json RenderSettings::toJson() const {
                 {"radius", radius},
                 {"kernel", kernel},
                 {"final_gather", finalGather},
+                {"alpha", alpha},
                 {"accelerator", accelerator},
                 {"seed", seed},
                 {"threads", threads},

@@ -29,6 +29,7 @@ struct RenderSettings {
     double radius = 0;          ///< Photon mapping: fixed search radius; 0 uses the k nearest.
     std::string kernel = "cone";         ///< Photon mapping: density-estimation kernel.
     int finalGather = 0;                 ///< Photon mapping: final-gather rays per camera path.
+    double alpha = 2.0 / 3.0;            ///< Progressive photon mapping: radius reduction per pass.
     std::string accelerator = "embree";  // the fastest of the three today
     uint64_t seed = 0;
     int threads = 0;      ///< 0 uses every core.

@@ -63,6 +63,7 @@ RenderSettings nonDefaultSettings() {
     s.radius = 0.25;
     s.kernel = "simpson";
     s.finalGather = 3;
+    s.alpha = 0.5;
     s.accelerator = acceleratorNames().back();
     s.seed = 12345678901;
     s.threads = 3;
