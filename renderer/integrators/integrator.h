@@ -29,9 +29,10 @@ public:
     Integrator(const Scene& scene, const Accelerator& accel) : scene_(scene), accel_(accel) {}
     virtual ~Integrator() = default;
 
-    /// Prepares pass `pass` before any Li of that pass (photon tracing, for example). Called from
-    /// one thread; deterministic in (seed, pass) so that passes can run on different workers.
-    virtual void beginPass(uint32_t /*pass*/) {}
+    /// Prepares pass `pass` before any Li of that pass (photon tracing, for example); returns the
+    /// rays it traced. Called from one thread (it may run its own parallel loops); deterministic
+    /// in (seed, pass) so that passes can run on different workers.
+    virtual uint64_t beginPass(uint32_t /*pass*/) { return 0; }
     /// One sample of the radiance arriving at the camera along `ray` (world space, unit direction),
     /// in W/(m^2 sr) per linear RGB channel. Thread-safe.
     virtual Color Li(const Ray& ray, SampleContext& ctx) const = 0;

@@ -10,7 +10,7 @@ float PhotonIntegrator::progressiveRadius(float r0, float alpha, uint32_t pass) 
     return float(std::sqrt(r2));
 }
 
-void PhotonIntegrator::beginPass(uint32_t pass) {
+uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
     passEstimate_ = options_.estimate;
     if (options_.progressive)
         passEstimate_.radius = progressiveRadius(options_.estimate.radius, options_.alpha, pass);
@@ -31,6 +31,7 @@ void PhotonIntegrator::beginPass(uint32_t pass) {
     caustic_.reset();
     global_ = std::make_unique<PhotonMap>(std::move(traced.photons));
     caustic_ = std::make_unique<PhotonMap>(std::move(caustics));
+    return traced.rays;
 }
 
 size_t PhotonIntegrator::memoryBytes() const {

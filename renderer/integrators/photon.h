@@ -38,7 +38,7 @@ public:
     PhotonIntegrator(const Scene& scene, const Accelerator& accel, const Options& options)
         : Integrator(scene, accel), options_(options) {}
 
-    void beginPass(uint32_t pass) override;
+    uint64_t beginPass(uint32_t pass) override;
     Color Li(const Ray& ray, SampleContext& ctx) const override;
     size_t memoryBytes() const override;
 

@@ -91,6 +91,7 @@ nlohmann::json RenderStats::toJson() const {
             {"accelerator_seconds", acceleratorSeconds},
             {"integrator_seconds", integratorSeconds},
             {"render_seconds", renderSeconds},
+            {"pass_setup_seconds", passSetupSeconds},
             {"total_seconds", totalSeconds},
             {"rays", rays},
             {"samples", samples},
@@ -151,7 +152,9 @@ RenderResult render(const Scene& scene, const RenderSettings& settings,
 
     bool stopped = false;
     for (int pass = 0; pass < passesTotal && !stopped; ++pass) {
-        integrator->beginPass(uint32_t(pass));
+        auto tPass = Clock::now();
+        stats.rays += integrator->beginPass(uint32_t(pass));
+        stats.passSetupSeconds += secondsSince(tPass);
         PassRenderer renderer{scene, *integrator, settings, sppPerPass, uint32_t(pass), passImage};
         std::atomic<int> tilesDone{0};
         std::atomic<bool> abandon{false};

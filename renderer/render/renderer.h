@@ -42,7 +42,8 @@ struct RenderStats {
     double setupSeconds = 0;        ///< acceleratorSeconds + integratorSeconds.
     double acceleratorSeconds = 0;  ///< Building the intersection structure.
     double integratorSeconds = 0;   ///< Preparing the integrator (photon tracing, for example).
-    double renderSeconds = 0;       ///< The passes.
+    double renderSeconds = 0;       ///< The passes, pass setup included.
+    double passSetupSeconds = 0;    ///< Of renderSeconds, preparing passes (photon tracing).
     double totalSeconds = 0;
     uint64_t rays = 0;         ///< Every ray traced: camera, bounce and shadow.
     uint64_t samples = 0;      ///< Camera samples taken (pixels x spp reached).
