@@ -49,8 +49,8 @@ TEST_P(RenderLoop, StopsBySppWithConsistentStats) {
     json j = s.toJson();
     for (const char* key :
          {"setup_seconds", "accelerator_seconds", "integrator_seconds", "render_seconds",
-          "total_seconds", "rays", "samples", "rays_per_second", "passes", "spp", "relative_error",
-          "dropped_samples", "threads", "stop_reason", "memory"})
+          "pass_setup_seconds", "total_seconds", "rays", "samples", "rays_per_second", "passes",
+          "spp", "relative_error", "dropped_samples", "threads", "stop_reason", "memory"})
         EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["stop_reason"], "spp");
 }
