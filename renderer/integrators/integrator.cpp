@@ -68,6 +68,7 @@ std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerat
         o.finalGather = settings.finalGather;
         o.maxDepth = settings.maxDepth;
         o.seed = settings.seed;
+        o.threads = settings.threads;
         if (name == "ppm") {
             o.progressive = true;
             o.alpha = float(settings.alpha);

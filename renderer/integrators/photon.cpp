@@ -19,6 +19,7 @@ uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
     o.maxDepth = options_.maxDepth;
     o.seed = options_.seed;
     o.pass = pass;
+    o.threads = options_.threads;
     PhotonTracing traced = tracePhotons(scene_, accel_, o);
     std::vector<Photon> caustics;
     caustics.reserve(

@@ -28,6 +28,7 @@ public:
         int finalGather = 0;  ///< Gather rays per camera path; 0 looks up the global map at x.
         int maxDepth = 16;
         uint64_t seed = 0;
+        int threads = 0;
         bool progressive = false;  ///< ppm: radius per pass from estimate.radius and alpha.
         float alpha = 2.0f / 3.0f;
     };

@@ -1,5 +1,7 @@
 #include "photons/photon_tracer.h"
 
+#include <omp.h>
+
 #include <algorithm>
 
 #include "core/rng.h"
@@ -69,7 +71,8 @@ PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
     if (scene.lightSampler.empty() || options.photons == 0) return result;
     const uint64_t chunks = (options.photons + kChunk - 1) / kChunk;
     std::vector<Chunk> done(chunks);
-#pragma omp parallel for schedule(dynamic, 1)
+    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (uint64_t c = 0; c < chunks; ++c) {
         uint64_t end = std::min(options.photons, (c + 1) * kChunk);
         for (uint64_t i = c * kChunk; i < end; ++i) tracePath(scene, accel, options, i, done[c]);

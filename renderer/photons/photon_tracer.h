@@ -28,6 +28,7 @@ struct PhotonTracingOptions {
     int maxDepth = 16;          ///< Most scattering events on a photon path.
     uint64_t seed = 0;
     uint32_t pass = 0;  ///< Photon tracing of pass p is independent of every other pass.
+    int threads = 0;    ///< 0 uses every core. The photons do not depend on it.
 };
 
 struct PhotonTracing {
