@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "integrators/integrator.h"
+#include "support/point_light_plane.h"
 #include "support/test_scenes.h"
 
 namespace caustic {
@@ -13,51 +14,10 @@ namespace {
 using nlohmann::json;
 using testing::emissiveWallScene;
 using testing::mergePatched;
+using testing::pixelAverage;
+using testing::pointLightOverPlane;
 using testing::sceneFromJson;
 using testing::settingsFrom;
-
-// A diffuse plane y = 0 under a point light at height h, seen obliquely from above.
-json pointLightOverPlane(int width, int height) {
-    return mergePatched(json::parse(R"({
-      "camera": {"position": [0, 2, 2.5], "look_at": [0, 0, 0], "fov": 40,
-                 "width": 0, "height": 0},
-      "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.25, 0.75]}},
-      "shapes": [{"type": "quad", "origin": [-50, 0, -50], "u": [0, 0, 100], "v": [100, 0, 0],
-                  "material": "white"}],
-      "lights": [{"type": "point", "position": [0.3, 1.0, -0.2], "intensity": [10, 20, 5]}]
-    })"),
-                        {{"camera", {{"width", width}, {"height", height}}}});
-}
-
-// The scene's camera position: the loader stores positions relative to it.
-const Vec3 kCamera(0.0f, 2.0f, 2.5f);
-
-// Radiance of the plane at a point (world space): albedo / pi * I cos(theta) / d^2.
-Color planeRadiance(const Vec3& p) {
-    const Vec3 light(0.3f, 1.0f, -0.2f);
-    const Color albedo(0.5f, 0.25f, 0.75f), intensity(10, 20, 5);
-    Vec3 d = light - p;
-    float d2 = glm::dot(d, d);
-    float cosTheta = d.y / std::sqrt(d2);
-    return albedo * kInvPi * intensity * cosTheta / d2;
-}
-
-// The exact pixel value: the analytic radiance averaged over the pixel's footprint (box filter),
-// by a 32x32 midpoint rule in double.
-Color pixelAverage(const Camera& camera, int x, int y) {
-    constexpr int n = 32;
-    DVec3 sum(0.0);
-    for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < n; ++i) {
-            Ray r = camera.generateRay(float(x) + (float(i) + 0.5f) / n,
-                                       float(y) + (float(j) + 0.5f) / n);
-            Vec3 o = r.o + kCamera;  // back to world space
-            float t = -o.y / r.d.y;
-            sum += DVec3(planeRadiance(o + t * r.d));
-        }
-    }
-    return Color(sum / double(n * n));
-}
 
 class PointLightPlane : public ::testing::TestWithParam<std::string> {};
 
