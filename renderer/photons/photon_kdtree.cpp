@@ -10,6 +10,8 @@ namespace {
 
 // Ranges this small are scanned in a loop instead of split further by the search.
 constexpr uint32_t kLeafSize = 8;
+// Up to this k, nearest() keeps its neighbours in a sorted array; above it, in a heap.
+constexpr size_t kSortedInsertionK = 64;
 // Ranges larger than this are built as OpenMP tasks.
 constexpr uint32_t kParallelSize = 1u << 15;
 
@@ -90,7 +92,27 @@ void PhotonKdTree::nearest(const Vec3& p, int k, float maxDist2, std::vector<Nei
     if (k <= 0 || nodes_.empty()) return;
     const auto limit = size_t(k);
     float bound2 = maxDist2;
-    // `out` is a max-heap by the neighbour order: its front is the worst of the k best so far.
+    if (limit <= kSortedInsertionK) {
+        // `out` stays sorted and at most k long: a new neighbour enters from the back and moves
+        // forward past worse ones: no heap sifting and no final sort.
+        search(p, bound2, [&](const Node& node) {
+            Neighbor n{distance2(node.p, p), node.id()};
+            if (!(n.dist2 <= maxDist2)) return;
+            if (out.size() < limit) {
+                out.push_back(n);
+            } else if (n < out.back()) {
+                out.back() = n;
+            } else {
+                return;
+            }
+            for (size_t i = out.size() - 1; i > 0 && out[i] < out[i - 1]; --i)
+                std::swap(out[i], out[i - 1]);
+            if (out.size() == limit) bound2 = out.back().dist2;
+        });
+        return;
+    }
+    // Large k: insertion would cost O(k) a photon, so `out` is a max-heap by the neighbour order
+    // whose front is the worst of the k best so far, sorted at the end.
     search(p, bound2, [&](const Node& node) {
         Neighbor n{distance2(node.p, p), node.id()};
         if (!(n.dist2 <= maxDist2)) return;
