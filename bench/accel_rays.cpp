@@ -69,18 +69,6 @@ Options parseArgs(const std::vector<std::string>& args) {
     return o;
 }
 
-// CPUs this process may run on: what `nproc` prints when OMP_NUM_THREADS is unset.
-
-std::string fmt(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof(buf), format, v);
-    return buf;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // Scales and translates the mesh so that its bounds fit [-0.5, 0.5]^3, centred at the origin.
 void normalize(TriangleMesh& mesh) {
     Bounds3 b;

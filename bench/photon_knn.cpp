@@ -76,16 +76,6 @@ Options parseArgs(const std::vector<std::string>& args) {
     return o;
 }
 
-std::string fmt(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof(buf), format, v);
-    return buf;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 std::string loadAverage() {
     std::ifstream in("/proc/loadavg");
     std::string a, b, c;

@@ -91,14 +91,6 @@ Options parseArgs(const std::vector<std::string>& args) {
     return o;
 }
 
-// CPUs this process may run on: what `nproc` prints when OMP_NUM_THREADS is unset.
-
-std::string fmt(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof(buf), format, v);
-    return buf;
-}
-
 double minimum(const std::vector<double>& v) {
     return *std::min_element(v.begin(), v.end());
 }
