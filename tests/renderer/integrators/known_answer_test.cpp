@@ -14,7 +14,6 @@ namespace {
 using nlohmann::json;
 using testing::emissiveWallScene;
 using testing::mergePatched;
-using testing::pixelAverage;
 using testing::pointLightOverPlane;
 using testing::sceneFromJson;
 using testing::settingsFrom;
@@ -26,24 +25,9 @@ TEST_P(PointLightPlane, EveryPixelMatchesTheAnalyticRadiance) {
     RenderResult r = render(*scene, settingsFrom({{"integrator", GetParam()}, {"spp", 64}}));
     const Film& film = *r.film;
     ASSERT_EQ(film.passes(), 64);
-    // Within a pixel the only randomness is the position of the sample (the light is a point), so
-    // the pass variance measures exactly the error we test: 5 standard errors per pixel and
-    // channel (false-alarm rate ~6e-7 per check, ~3e-3 over the image), plus float rounding.
-    int worst = 0;
-    double worstZ = 0;
-    for (int y = 0; y < film.height(); ++y) {
-        for (int x = 0; x < film.width(); ++x) {
-            Color expected = pixelAverage(scene->camera, x, y);
-            Color got = film.mean(x, y), se = film.standardError(x, y);
-            for (int c = 0; c < 3; ++c) {
-                double tol = 5.0 * se[c] + 1e-5 * expected[c];
-                double z = std::abs(got[c] - expected[c]) / std::max(tol, 1e-12);
-                if (z > worstZ) worstZ = z;
-                if (std::abs(got[c] - expected[c]) > tol) ++worst;
-            }
-        }
-    }
-    EXPECT_EQ(worst, 0) << "largest error / tolerance: " << worstZ;
+    double worst = 0;
+    EXPECT_EQ(testing::pixelsOffTheAnalyticValue(film, scene->camera, worst), 0)
+        << "largest error / tolerance: " << worst;
     EXPECT_EQ(r.stats.droppedSamples, 0u);
 }
 

@@ -29,7 +29,6 @@ namespace {
 
 using namespace estimate_test;  // kernels, plane points, thresholds
 using nlohmann::json;
-using testing::pixelAverage;
 using testing::pointLightOverPlane;
 using testing::sceneFromJson;
 using testing::settingsFrom;
@@ -172,20 +171,9 @@ TEST(PhotonEstimate, PhotonIntegratorAddsNothingToDirectLightOnAPlane) {
     ASSERT_EQ(a.size(), b.size());
     EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0)
         << "photon and raycast images differ";
-    int bad = 0;
-    double worst = 0.0;
-    for (int y = 0; y < film.height(); ++y) {
-        for (int x = 0; x < film.width(); ++x) {
-            Color expected = pixelAverage(scene->camera, x, y);
-            Color got = film.mean(x, y), se = film.standardError(x, y);
-            for (int c = 0; c < 3; ++c) {
-                double tol = 5.0 * se[c] + 1e-5 * expected[c];
-                worst = std::max(worst, std::abs(got[c] - expected[c]) / std::max(tol, 1e-12));
-                if (std::abs(got[c] - expected[c]) > tol) ++bad;
-            }
-        }
-    }
-    EXPECT_EQ(bad, 0) << "largest error / tolerance: " << worst;
+    double worst = 0;
+    EXPECT_EQ(testing::pixelsOffTheAnalyticValue(film, scene->camera, worst), 0)
+        << "largest error / tolerance: " << worst;
     EXPECT_EQ(r.stats.droppedSamples, 0u);
 }
 
