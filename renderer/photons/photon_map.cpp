@@ -49,8 +49,7 @@ Color PhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo, const M
     for (const Neighbor& n : scratch) {
         const Photon& p = photons_[n.id];
         if (!(mask & maskOf(p.path))) continue;
-        // Photons from the other side of a thin surface do not light this side.
-        if (glm::dot(p.wi, si.n) * glm::dot(wo, si.n) <= 0.0f) continue;
+        // f is zero for a photon from the other side of a thin surface: it lights only its side.
         L += m.f(wo, p.wi, si.n) * p.power * kernel(estimate.kernel, n.dist2, r2);
     }
     return L;
