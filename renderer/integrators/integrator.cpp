@@ -59,7 +59,10 @@ std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerat
                                     settings.mis});
     if (name == "photon" || name == "ppm") {
         PhotonIntegrator::Options o;
-        o.photons = settings.photons;
+        o.photons = uint64_t(settings.photons);
+        o.causticPhotons = uint64_t(settings.causticPhotons);
+        o.lookup =
+            settings.photonLookup == "kdtree" ? PhotonLookup::KdTree : PhotonLookup::BruteForce;
         o.estimate.k = settings.k;
         o.estimate.radius = float(settings.radius);
         o.estimate.kernel = settings.kernel == "box"    ? PhotonKernel::Box

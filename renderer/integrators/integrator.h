@@ -38,6 +38,9 @@ public:
     virtual Color Li(const Ray& ray, SampleContext& ctx) const = 0;
     /// Bytes of the integrator's own structures (photon maps); zero for those that keep none.
     virtual size_t memoryBytes() const { return 0; }
+    /// Throws InputError naming the setting at fault when the integrator's own structures would
+    /// need more than `budgetBytes` at their peak; called before the first pass.
+    virtual void checkMemory(size_t /*budgetBytes*/) const {}
 
 protected:
     /// Closest hit along the ray, counting it.

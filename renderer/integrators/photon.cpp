@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/error.h"
+
 namespace caustic {
 
 float PhotonIntegrator::progressiveRadius(float r0, float alpha, uint32_t pass) {
@@ -10,29 +12,72 @@ float PhotonIntegrator::progressiveRadius(float r0, float alpha, uint32_t pass) 
     return float(std::sqrt(r2));
 }
 
-uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
-    passEstimate_ = options_.estimate;
-    if (options_.progressive)
-        passEstimate_.radius = progressiveRadius(options_.estimate.radius, options_.alpha, pass);
+PhotonTracingOptions PhotonIntegrator::tracingOptions(uint32_t pass, bool causticOnly) const {
     PhotonTracingOptions o;
-    o.photons = options_.photons;
+    o.photons = causticOnly ? options_.causticPhotons : options_.photons;
     o.maxDepth = options_.maxDepth;
     o.seed = options_.seed;
     o.pass = pass;
     o.threads = options_.threads;
-    PhotonTracing traced = tracePhotons(scene_, accel_, o);
-    std::vector<Photon> caustics;
-    caustics.reserve(
-        size_t(std::count_if(traced.photons.begin(), traced.photons.end(),
-                             [](const Photon& p) { return p.path == PhotonPath::Caustic; })));
-    for (const Photon& p : traced.photons)
-        if (p.path == PhotonPath::Caustic) caustics.push_back(p);
-    // Free the previous pass's maps before building the next (peak memory: one pass's maps).
+    o.causticOnly = causticOnly;
+    return o;
+}
+
+uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
+    passEstimate_ = options_.estimate;
+    if (options_.progressive)
+        passEstimate_.radius = progressiveRadius(options_.estimate.radius, options_.alpha, pass);
+    // Free the previous pass's maps first (peak memory: one pass's tracing and maps).
     global_.reset();
     caustic_.reset();
-    global_ = std::make_unique<PhotonMap>(std::move(traced.photons));
-    caustic_ = std::make_unique<PhotonMap>(std::move(caustics));
-    return traced.rays;
+    PhotonTracing traced = tracePhotons(scene_, accel_, tracingOptions(pass, false));
+    uint64_t rays = traced.rays;
+    std::vector<Photon> caustics;
+    if (options_.causticPhotons > 0) {
+        PhotonTracing c = tracePhotons(scene_, accel_, tracingOptions(pass, true));
+        rays += c.rays;
+        caustics = std::move(c.photons);
+    } else {
+        caustics.reserve(
+            size_t(std::count_if(traced.photons.begin(), traced.photons.end(),
+                                 [](const Photon& p) { return p.path == PhotonPath::Caustic; })));
+        for (const Photon& p : traced.photons)
+            if (p.path == PhotonPath::Caustic) caustics.push_back(p);
+    }
+    global_ = std::make_unique<PhotonMap>(std::move(traced.photons), options_.lookup);
+    caustic_ = std::make_unique<PhotonMap>(std::move(caustics), options_.lookup);
+    return rays;
+}
+
+size_t PhotonIntegrator::estimatedPeakBytes() const {
+    auto storedPerPath = [&](bool causticOnly, PhotonPathMask mask) {
+        PhotonTracingOptions o = tracingOptions(0, causticOnly);
+        o.photons = std::min<uint64_t>(o.photons, kPilotPaths);
+        PhotonTracing pilot = tracePhotons(scene_, accel_, o);
+        size_t n = size_t(std::count_if(pilot.photons.begin(), pilot.photons.end(),
+                                        [&](const Photon& p) { return mask & maskOf(p.path); }));
+        return o.photons > 0 ? double(n) / double(o.photons) : 0.0;
+    };
+    double global = double(options_.photons) * storedPerPath(false, kAllPhotonPaths);
+    double caustic =
+        options_.causticPhotons > 0
+            ? double(options_.causticPhotons) * storedPerPath(true, kAllPhotonPaths)
+            : double(options_.photons) * storedPerPath(false, maskOf(PhotonPath::Caustic));
+    // Tracing holds each photon twice while it joins the chunks (80 bytes); a map then holds 40
+    // bytes a photon, 16 in the tree and 12 of positions while it builds. A 10% margin covers the
+    // pilot's sampling error.
+    return size_t(1.1 * (80.0 * global + 80.0 * caustic));
+}
+
+void PhotonIntegrator::checkMemory(size_t budgetBytes) const {
+    size_t need = estimatedPeakBytes();
+    if (need <= budgetBytes) return;
+    auto mib = [](size_t b) { return std::to_string((b + (1u << 20) - 1) >> 20) + " MiB"; };
+    bool caustics = options_.causticPhotons > options_.photons;
+    throw InputError(caustics ? "/settings/caustic_photons" : "/settings/photons",
+                     "the photon maps of a pass would need about " + mib(need) +
+                         " (estimated from a pilot tracing), more than the " + mib(budgetBytes) +
+                         " the memory limit leaves; lower it or raise memory_limit");
 }
 
 size_t PhotonIntegrator::memoryBytes() const {

@@ -5,6 +5,8 @@
 // global map's indirect photons at x, or, with final gathering, from `final_gather` BSDF-sampled
 // rays whose first diffuse hits y look up every photon of the global map. Each part of the light
 // is counted once: direct L D, caustic L S+ D, indirect paths with a diffuse vertex before x.
+// With `causticPhotons`, the caustic map comes from its own, cheaper tracing (paths end at their
+// first diffuse hit), so that caustics can have many more photons than the global map.
 //
 // `ppm` is the same estimator with the memoryless progressive radius of Knaus & Zwicker (2011):
 // pass i (0-based) uses the fixed radius r_i with r_i^2 = r_0^2 prod_{j=1..i} (j - 1 + alpha) / j,
@@ -24,6 +26,8 @@ class PhotonIntegrator final : public Integrator {
 public:
     struct Options {
         uint64_t photons = 200000;
+        uint64_t causticPhotons = 0;  ///< Paths for the caustic map; 0 takes those of `photons`.
+        PhotonLookup lookup = PhotonLookup::KdTree;
         PhotonEstimate estimate;
         int finalGather = 0;  ///< Gather rays per camera path; 0 looks up the global map at x.
         int maxDepth = 16;
@@ -42,8 +46,15 @@ public:
     uint64_t beginPass(uint32_t pass) override;
     Color Li(const Ray& ray, SampleContext& ctx) const override;
     size_t memoryBytes() const override;
+    void checkMemory(size_t budgetBytes) const override;
+
+    /// Peak bytes of one pass's photon tracing and maps, from a pilot tracing of at most
+    /// kPilotPaths paths of each kind (a few milliseconds).
+    size_t estimatedPeakBytes() const;
+    static constexpr uint64_t kPilotPaths = 8192;
 
 private:
+    PhotonTracingOptions tracingOptions(uint32_t pass, bool causticOnly) const;
     /// Follows specular lobes from `ray` (one sampled lobe per hit) to the first non-specular hit;
     /// nullopt when the path escapes (`escaped`) or ends. `beta` accumulates the specular weights;
     /// `ray` becomes the ray that reached the hit.

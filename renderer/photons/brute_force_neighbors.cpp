@@ -6,8 +6,14 @@ namespace caustic {
 
 void BruteForceNeighbors::nearest(const Vec3& p, int k, float maxDist2,
                                   std::vector<Neighbor>& out) const {
-    withinRadius(p, maxDist2, out);
-    if (out.size() > size_t(std::max(k, 0))) out.resize(size_t(std::max(k, 0)));
+    out.clear();
+    if (k <= 0) return;
+    // One scan with a max-heap of the k best so far: O(n log k), the fair baseline for a tree.
+    for (size_t i = 0; i < points_.size(); ++i) {
+        Neighbor n{distance2(points_[i], p), uint32_t(i)};
+        if (n.dist2 <= maxDist2) offerToHeap(out, size_t(k), n);
+    }
+    std::sort_heap(out.begin(), out.end());
 }
 
 void BruteForceNeighbors::withinRadius(const Vec3& p, float radius2,

@@ -3,6 +3,7 @@
 // reference it is tested against). Built once, then const and thread-safe.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -46,6 +47,21 @@ public:
 inline float distance2(const Vec3& a, const Vec3& b) {
     Vec3 d = a - b;
     return d.x * d.x + d.y * d.y + d.z * d.z;
+}
+
+/// Offers `n` to `heap`, a max-heap by the neighbour order holding the best (at most) k so far,
+/// whose front is the worst of them. Returns whether `n` entered.
+inline bool offerToHeap(std::vector<Neighbor>& heap, size_t k, const Neighbor& n) {
+    if (heap.size() < k) {
+        heap.push_back(n);
+        std::push_heap(heap.begin(), heap.end());
+        return true;
+    }
+    if (!(n < heap.front())) return false;
+    std::pop_heap(heap.begin(), heap.end());
+    heap.back() = n;
+    std::push_heap(heap.begin(), heap.end());
+    return true;
 }
 
 }  // namespace caustic

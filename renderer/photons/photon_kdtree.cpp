@@ -116,17 +116,7 @@ void PhotonKdTree::nearest(const Vec3& p, int k, float maxDist2, std::vector<Nei
     search(p, bound2, [&](const Node& node) {
         Neighbor n{distance2(node.p, p), node.id()};
         if (!(n.dist2 <= maxDist2)) return;
-        if (out.size() < limit) {
-            out.push_back(n);
-            std::push_heap(out.begin(), out.end());
-        } else if (n < out.front()) {
-            std::pop_heap(out.begin(), out.end());
-            out.back() = n;
-            std::push_heap(out.begin(), out.end());
-        } else {
-            return;
-        }
-        if (out.size() == limit) bound2 = out.front().dist2;
+        if (offerToHeap(out, limit, n) && out.size() == limit) bound2 = out.front().dist2;
     });
     std::sort_heap(out.begin(), out.end());
 }

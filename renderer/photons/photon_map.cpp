@@ -1,5 +1,7 @@
 #include "photons/photon_map.h"
 
+#include "photons/brute_force_neighbors.h"
+
 namespace caustic {
 namespace {
 
@@ -29,8 +31,13 @@ float kernel(PhotonKernel k, float d2, float r2) {
 
 }  // namespace
 
-PhotonMap::PhotonMap(std::vector<Photon> photons)
-    : photons_(std::move(photons)), tree_(positions(photons_)) {}
+PhotonMap::PhotonMap(std::vector<Photon> photons, PhotonLookup lookup)
+    : photons_(std::move(photons)) {
+    if (lookup == PhotonLookup::KdTree)
+        index_ = std::make_unique<PhotonKdTree>(positions(photons_));
+    else
+        index_ = std::make_unique<BruteForceNeighbors>(positions(photons_));
+}
 
 Color PhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
                            const PhotonEstimate& estimate, PhotonPathMask mask,
@@ -38,9 +45,9 @@ Color PhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo, const M
     if (photons_.empty()) return Color(0.0f);
     float r2 = estimate.radius * estimate.radius;
     if (estimate.radius > 0.0f) {
-        tree_.withinRadius(si.p, r2, scratch);
+        index_->withinRadius(si.p, r2, scratch);
     } else {
-        tree_.nearest(si.p, estimate.k, kInfinity, scratch);
+        index_->nearest(si.p, estimate.k, kInfinity, scratch);
         if (scratch.empty()) return Color(0.0f);
         r2 = scratch.back().dist2;
     }

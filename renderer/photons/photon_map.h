@@ -3,6 +3,7 @@
 // the k nearest photons or those within a fixed radius, with a normalized kernel K.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "materials/material.h"
@@ -28,9 +29,13 @@ constexpr PhotonPathMask maskOf(PhotonPath p) {
 }
 constexpr PhotonPathMask kAllPhotonPaths = 7u;
 
+/// The neighbour index behind a map: ours, or every photon for every look-up (the baseline of the
+/// seed's Table 1, and the reference the tree is tested against).
+enum class PhotonLookup { KdTree, BruteForce };
+
 class PhotonMap {
 public:
-    explicit PhotonMap(std::vector<Photon> photons);
+    explicit PhotonMap(std::vector<Photon> photons, PhotonLookup lookup = PhotonLookup::KdTree);
 
     /// Radiance reflected towards wo at si by material m from the photons around si.p whose path
     /// is in `mask`. The radius is that of the k nearest of all photons (or the fixed one), so the
@@ -40,14 +45,14 @@ public:
                     std::vector<Neighbor>& scratch) const;
 
     size_t size() const { return photons_.size(); }
-    /// 40 bytes a photon plus 16 in the tree.
+    /// 40 bytes a photon plus 16 in the tree (12 in the brute-force index).
     size_t memoryBytes() const {
-        return photons_.capacity() * sizeof(Photon) + tree_.memoryBytes();
+        return photons_.capacity() * sizeof(Photon) + index_->memoryBytes();
     }
 
 private:
     std::vector<Photon> photons_;
-    PhotonKdTree tree_;
+    std::unique_ptr<NeighborIndex> index_;
 };
 
 }  // namespace caustic

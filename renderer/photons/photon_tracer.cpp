@@ -23,7 +23,8 @@ struct Chunk {
 
 void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracingOptions& options,
                uint64_t index, Chunk& out) {
-    Rng rng = Rng::forSample(options.seed, options.pass, index, kPhotonStream);
+    Rng rng = Rng::forSample(options.seed, options.pass, index,
+                             kPhotonStream + (options.causticOnly ? 1 : 0));
     std::optional<SampledLight> chosen = scene.lightSampler.sample(rng.uniform());
     Vec2 uPosition = rng.uniform2(), uDirection = rng.uniform2();
     if (!chosen) return;
@@ -45,6 +46,11 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
             PhotonPath path = bounces == 0   ? PhotonPath::Direct
                               : specularOnly ? PhotonPath::Caustic
                                              : PhotonPath::Indirect;
+            if (options.causticOnly) {
+                if (path == PhotonPath::Caustic)
+                    out.photons.push_back(Photon{si.p, wo, beta, path});
+                return;
+            }
             out.photons.push_back(Photon{si.p, wo, beta, path});
         }
         float uc = rng.uniform();

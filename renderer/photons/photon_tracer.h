@@ -29,6 +29,10 @@ struct PhotonTracingOptions {
     uint64_t seed = 0;
     uint32_t pass = 0;  ///< Photon tracing of pass p is independent of every other pass.
     int threads = 0;    ///< 0 uses every core. The photons do not depend on it.
+    /// Store caustic photons only, and end each path at its first non-specular hit (after which it
+    /// can carry no caustic): a cheap, separate caustic map. Its random numbers are independent of
+    /// the full tracing's with the same seed and pass.
+    bool causticOnly = false;
 };
 
 struct PhotonTracing {

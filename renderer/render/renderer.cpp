@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "accel/accelerator.h"
+#include "core/error.h"
 #include "integrators/integrator.h"
 
 namespace caustic {
@@ -58,6 +59,22 @@ struct PassRenderer {
         rays += ctx.rays;
     }
 };
+
+// Refuses a render that would not fit in settings.memory_limit, before its first pass: what is
+// built so far is measured, the integrator estimates its own peak.
+void checkMemory(const Scene& scene, const Accelerator& accel, const Film& film,
+                 const Integrator& integrator, const RenderSettings& settings) {
+    const size_t limit = settings.memoryLimitBytes();
+    const size_t pixels = size_t(film.width()) * size_t(film.height());
+    const size_t built = scene.geometry.memoryBytes() + accel.memoryBytes() + film.memoryBytes() +
+                         pixels * sizeof(Color) + scene.lightTableBytes();
+    if (built > limit)
+        throw InputError("/settings/memory_limit",
+                         "the scene, its accelerator and the film already take " +
+                             std::to_string(built >> 20) + " MiB, more than the limit of " +
+                             std::to_string(limit >> 20) + " MiB");
+    integrator.checkMemory(limit - built);
+}
 
 }  // namespace
 
@@ -119,6 +136,7 @@ RenderResult render(const Scene& scene, const RenderSettings& settings,
     std::unique_ptr<Integrator> integrator = createIntegrator(scene, *accel, settings);
     result.film = std::make_unique<Film>(width, height);
     Film& film = *result.film;
+    checkMemory(scene, *accel, film, *integrator, settings);
     stats.integratorSeconds = secondsSince(tIntegrator);
     stats.setupSeconds = secondsSince(t0);
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <unistd.h>
+
 #include "accel/accelerator.h"
 #include "core/error.h"
 #include "integrators/integrator.h"
@@ -111,6 +113,26 @@ const std::vector<SettingSpec>& settingSpecs() {
              "Photon paths traced from the lights in each pass (each stored photon takes 56 "
              "bytes).",
              {"photon", "ppm"}},
+            {"caustic_photons",
+             T::Integer,
+             d.causticPhotons,
+             0,
+             1e9,
+             {},
+             "photon paths/pass",
+             "Photon paths traced for the caustic map alone in each pass; each ends at its first "
+             "diffuse hit, so they are cheap. 0 takes the caustic photons of the `photons` paths.",
+             {"photon", "ppm"}},
+            {"photon_lookup",
+             T::String,
+             d.photonLookup,
+             0,
+             0,
+             {"kdtree", "brute_force"},
+             "",
+             "Photon search structure: the kd-tree, or every photon for every look-up (a baseline "
+             "for benchmarks; the image is the same).",
+             {"photon", "ppm"}},
             {"k",
              T::Integer,
              d.k,
@@ -170,6 +192,16 @@ const std::vector<SettingSpec>& settingSpecs() {
              acceleratorNames(),
              "",
              "Ray intersection structure.",
+             {}},
+            {"memory_limit",
+             T::Number,
+             d.memoryLimit,
+             0,
+             1e9,
+             {},
+             "MiB",
+             "Refuse, before the first pass, a render whose estimated peak memory (scene, "
+             "accelerator, film, photon maps) exceeds this; 0 for half the machine's memory.",
              {}},
             {"seed",
              T::Integer,
@@ -301,12 +333,15 @@ RenderSettings parseSettings(const Json& settings, const std::string& path) {
     r.lightSampling = values["light_sampling"].get<bool>();
     r.mis = values["mis"].get<bool>();
     r.photons = values["photons"].get<int64_t>();
+    r.causticPhotons = values["caustic_photons"].get<int64_t>();
+    r.photonLookup = values["photon_lookup"].get<std::string>();
     r.k = values["k"].get<int>();
     r.radius = values["radius"].get<double>();
     r.kernel = values["kernel"].get<std::string>();
     r.finalGather = values["final_gather"].get<int>();
     r.alpha = values["alpha"].get<double>();
     r.accelerator = values["accelerator"].get<std::string>();
+    r.memoryLimit = values["memory_limit"].get<double>();
     r.seed = values["seed"].get<uint64_t>();
     r.threads = values["threads"].get<int>();
     r.exposure = values["exposure"].get<double>();
@@ -324,6 +359,12 @@ int RenderSettings::resolvedSppPerPass() const {
     return best;
 }
 
+size_t RenderSettings::memoryLimitBytes() const {
+    if (memoryLimit > 0) return size_t(memoryLimit * 1048576.0);
+    long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && pageSize > 0 ? size_t(pages) * size_t(pageSize) / 2 : size_t(4) << 30;
+}
+
 Json RenderSettings::toJson() const {
     return Json{{"integrator", integrator},
                 {"spp", spp},
@@ -335,12 +376,15 @@ Json RenderSettings::toJson() const {
                 {"light_sampling", lightSampling},
                 {"mis", mis},
                 {"photons", photons},
+                {"caustic_photons", causticPhotons},
+                {"photon_lookup", photonLookup},
                 {"k", k},
                 {"radius", radius},
                 {"kernel", kernel},
                 {"final_gather", finalGather},
                 {"alpha", alpha},
                 {"accelerator", accelerator},
+                {"memory_limit", memoryLimit},
                 {"seed", seed},
                 {"threads", threads},
                 {"exposure", exposure}};

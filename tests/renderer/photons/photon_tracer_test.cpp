@@ -95,6 +95,41 @@ TEST(PhotonTracer, PathsAreTagged) {
         ASSERT_NE(p.path, PhotonPath::Caustic);
 }
 
+TEST(PhotonTracer, CausticOnlyTracingEstimatesTheSameCaustics) {
+    // A path stores at most one caustic photon (its first diffuse hit, after specular bounces
+    // only), and in the Cornell box every caustic photon carries the same power: one light, white
+    // mirror and glass, and Russian roulette that keeps the largest channel of the power. So each
+    // tracing's caustic count is binomial in the paths with the same p, and the two must agree by
+    // a two-proportion z-test (|z| < 5).
+    auto cornell = sceneFromJson(exampleScene("cornell-spheres"));
+    auto accel = createAccelerator("embree", cornell->geometry);
+    PhotonTracingOptions o;
+    o.photons = 100000;
+    o.seed = 1;
+    PhotonTracing all = tracePhotons(*cornell, *accel, o);
+    o.causticOnly = true;
+    PhotonTracing caustic = tracePhotons(*cornell, *accel, o);
+    double n = double(o.photons), countAll = 0, countCaustic = double(caustic.photons.size());
+    DVec3 powerAll(0.0), powerCaustic(0.0);
+    for (const Photon& p : all.photons)
+        if (p.path == PhotonPath::Caustic) {
+            countAll += 1;
+            powerAll += DVec3(p.power);
+        }
+    for (const Photon& p : caustic.photons) {
+        ASSERT_EQ(p.path, PhotonPath::Caustic);
+        powerCaustic += DVec3(p.power);
+    }
+    ASSERT_GT(countAll, 500);
+    const double pooled = (countAll + countCaustic) / (2 * n);
+    const double z = (countAll - countCaustic) / n / std::sqrt(pooled * (1 - pooled) * 2 / n);
+    EXPECT_LT(std::abs(z), 5.0) << countAll << " against " << countCaustic;
+    expectRelativelyNear(powerCaustic / countCaustic, powerAll / countAll, 1e-5);
+    // Its own random numbers, and paths that end at their first diffuse hit: fewer rays.
+    EXPECT_NE(countAll, countCaustic);
+    EXPECT_LT(caustic.rays, all.rays / 2);
+}
+
 TEST(PhotonTracer, SameListOnAnyThreadCount) {
     auto cornell = sceneFromJson(exampleScene("cornell-spheres"));
     int before = omp_get_max_threads();

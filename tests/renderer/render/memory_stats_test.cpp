@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "accel/accelerator.h"
+#include "core/error.h"
+#include "integrators/photon.h"
 #include "support/test_scenes.h"
 
 namespace caustic {
@@ -62,6 +64,49 @@ TEST(MemoryStats, PhotonMappingReportsItsMaps) {
     MemoryStats m = renderMemory(doc, {{"integrator", "photon"}, {"photons", 2000}, {"spp", 1}});
     EXPECT_GT(m.photonMaps, 0u);
     EXPECT_EQ(m.photonMaps % 56, 0u);
+}
+
+// The photon count a job asks for is checked against memory_limit before the first pass, and the
+// error names the setting at fault.
+std::string refusal(const json& settings) {
+    auto scene = sceneFromJson(exampleScene("cornell-spheres", kWidth, kHeight));
+    try {
+        render(*scene, settingsFrom(settings));
+    } catch (const InputError& e) {
+        return e.path();
+    }
+    return "rendered";
+}
+
+TEST(MemoryStats, PhotonCountsAreCheckedAgainstTheLimit) {
+    // About 3 stored photons a path in the Cornell box, 80 bytes each at the peak: 1e8 paths need
+    // some 24 GB.
+    EXPECT_EQ(refusal({{"integrator", "photon"}, {"photons", 100000000}, {"memory_limit", 1000}}),
+              "/settings/photons");
+    EXPECT_EQ(refusal({{"integrator", "ppm"},
+                       {"photons", 1000},
+                       {"caustic_photons", 1000000000},
+                       {"memory_limit", 1000}}),
+              "/settings/caustic_photons");
+    EXPECT_EQ(refusal({{"integrator", "path"}, {"memory_limit", 0.001}}), "/settings/memory_limit");
+    EXPECT_EQ(refusal({{"integrator", "photon"}, {"photons", 1000}, {"spp", 1}}), "rendered");
+}
+
+TEST(MemoryStats, PhotonEstimateBoundsWhatAPassHolds) {
+    auto scene = sceneFromJson(exampleScene("cornell-spheres", kWidth, kHeight));
+    auto accel = createAccelerator("embree", scene->geometry);
+    for (uint64_t caustic : {uint64_t(0), uint64_t(50000)}) {
+        PhotonIntegrator::Options o;
+        o.photons = 50000;
+        o.causticPhotons = caustic;
+        PhotonIntegrator integrator(*scene, *accel, o);
+        const size_t estimate = integrator.estimatedPeakBytes();
+        integrator.beginPass(0);
+        // The maps held after the pass (56 bytes a photon) fit under the peak estimate (80 bytes
+        // a photon at the peak, plus 10%), and the estimate is not wildly above them.
+        EXPECT_GT(estimate, integrator.memoryBytes()) << caustic;
+        EXPECT_LT(estimate, 2 * integrator.memoryBytes()) << caustic;
+    }
 }
 
 TEST(MemoryStats, SpheresBuildNoMeshStructures) {
