@@ -136,6 +136,15 @@ RenderResult render(const Scene& scene, const RenderSettings& settings,
     std::unique_ptr<Integrator> integrator = createIntegrator(scene, *accel, settings);
     result.film = std::make_unique<Film>(width, height);
     Film& film = *result.film;
+    if (callbacks.resume) {
+        if (callbacks.resume->width() != width || callbacks.resume->height() != height)
+            throw InputError("/scene/camera", "the checkpoint to resume is " +
+                                                  std::to_string(callbacks.resume->width()) + "x" +
+                                                  std::to_string(callbacks.resume->height()) +
+                                                  ", the camera " + std::to_string(width) + "x" +
+                                                  std::to_string(height));
+        film = *callbacks.resume;
+    }
     checkMemory(scene, *accel, film, *integrator, settings);
     stats.integratorSeconds = secondsSince(tIntegrator);
     stats.setupSeconds = secondsSince(t0);
@@ -168,8 +177,14 @@ RenderResult render(const Scene& scene, const RenderSettings& settings,
         callbacks.onProgress(p);
     };
 
-    bool stopped = false;
-    for (int pass = 0; pass < passesTotal && !stopped; ++pass) {
+    auto reachedTarget = [&] {
+        return settings.targetError > 0 && film.passes() >= 2 &&
+               film.relativeError() <= settings.targetError;
+    };
+    // A resumed render that had reached its target stops where it did.
+    bool stopped = reachedTarget();
+    if (stopped) stats.stopReason = StopReason::TargetError;
+    for (int pass = film.passes(); pass < passesTotal && !stopped; ++pass) {
         auto tPass = Clock::now();
         stats.rays += integrator->beginPass(uint32_t(pass));
         stats.passSetupSeconds += secondsSince(tPass);
@@ -209,8 +224,7 @@ RenderResult render(const Scene& scene, const RenderSettings& settings,
         if (cancelled()) {
             stats.stopReason = StopReason::Cancelled;
             stopped = true;
-        } else if (settings.targetError > 0 && film.passes() >= 2 &&
-                   film.relativeError() <= settings.targetError) {
+        } else if (reachedTarget()) {
             stats.stopReason = StopReason::TargetError;
             stopped = true;
         } else if (settings.timeLimit > 0 && secondsSince(tRender) >= settings.timeLimit &&

@@ -75,6 +75,10 @@ struct RenderCallbacks {
     std::function<void(const Film&)> onPass;
     /// Polled between tiles; when it becomes true the render stops, discarding the partial pass.
     const std::atomic<bool>* cancel = nullptr;
+    /// Passes already rendered for this same scene and settings (a checkpoint): the render goes on
+    /// from pass resume->passes(), and its image is bit-identical to an uninterrupted render's
+    /// (passes depend only on their index). The time limit counts from this call.
+    const Film* resume = nullptr;
 };
 
 struct RenderResult {

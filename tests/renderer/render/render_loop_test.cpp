@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "core/error.h"
 #include "integrators/integrator.h"
 #include "support/test_scenes.h"
 
@@ -125,6 +126,43 @@ TEST_P(RenderLoop, ProgressIsMonotonicAndEndsComplete) {
     EXPECT_EQ(seen.back().passesDone, 8);
     EXPECT_EQ(seen.back().passesTotal, 8);
     EXPECT_TRUE(std::isfinite(seen.back().relativeError));
+}
+
+TEST_P(RenderLoop, ResumesFromACheckpointToTheSameImage) {
+    // What a restarted server does: keep the film after some pass, render again from it.
+    auto scene = cornell();
+    RenderSettings settings = settingsFrom(
+        {{"integrator", GetParam()}, {"spp", 10}, {"spp_per_pass", 2}, {"photons", 5000}});
+    std::unique_ptr<Film> checkpoint;
+    RenderCallbacks keep;
+    keep.onPass = [&](const Film& film) {
+        if (film.passes() == 2) checkpoint = std::make_unique<Film>(film);
+    };
+    RenderResult whole = render(*scene, settings, keep);
+    ASSERT_TRUE(checkpoint);
+    RenderCallbacks resume;
+    resume.resume = checkpoint.get();
+    int firstPassSeen = 0;
+    resume.onPass = [&](const Film& film) {
+        if (firstPassSeen == 0) firstPassSeen = film.passes();
+    };
+    RenderResult resumed = render(*scene, settings, resume);
+    EXPECT_EQ(firstPassSeen, 3);
+    EXPECT_EQ(resumed.stats.passes, 5);
+    EXPECT_EQ(resumed.film->sums(), whole.film->sums());
+    EXPECT_EQ(resumed.film->sumsOfSquares(), whole.film->sumsOfSquares());
+
+    // A finished checkpoint renders nothing more.
+    resume.resume = whole.film.get();
+    resume.onPass = nullptr;
+    RenderResult again = render(*scene, settings, resume);
+    EXPECT_EQ(again.stats.passes, 5);
+    EXPECT_EQ(again.film->sums(), whole.film->sums());
+
+    // A checkpoint of another size is refused.
+    Film other(kWidth + 1, kHeight);
+    resume.resume = &other;
+    EXPECT_THROW(render(*scene, settings, resume), InputError);
 }
 
 INSTANTIATE_TEST_SUITE_P(Integrators, RenderLoop, ::testing::ValuesIn(integratorNames()),
