@@ -6,6 +6,7 @@
 
 #include "render/settings.h"
 #include "render_command.h"
+#include "serve_command.h"
 
 namespace {
 
@@ -14,6 +15,8 @@ constexpr const char* kHelp =
     "usage:\n"
     "  caustic render SCENE -o OUT.png [--set key=value ...]   render a scene (see caustic render "
     "--help)\n"
+    "  caustic serve [--port N] [--data DIR] ...               run the render service (see caustic "
+    "serve --help)\n"
     "  caustic settings                                        list render settings as JSON\n"
     "  caustic --version\n";
 
@@ -32,6 +35,10 @@ int main(int argc, char** argv) {
     if (args[0] == "settings") {
         std::cout << caustic::settingsSchemaJson().dump(2) << "\n";
         return 0;
+    }
+    if (args[0] == "serve") {
+        std::vector<std::string> rest(args.begin() + 1, args.end());
+        return caustic::runServeCommand(rest);
     }
     if (args[0] == "render") {
         std::vector<std::string> rest(args.begin() + 1, args.end());

@@ -9,6 +9,8 @@ packages=(
     # Renderer
     libglm-dev nlohmann-json3-dev libtinyobjloader-dev libopenimageio-dev openimageio-tools
     libembree-dev
+    # Render service
+    libcpp-httplib-dev libsqlite3-dev
     # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a venv)
     libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv
 )

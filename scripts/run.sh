@@ -1,10 +1,9 @@
 #!/usr/bin/env bash
-# Installs what is needed, builds, and renders the default scene. (Once the render service exists,
-# this starts it instead and prints its URL.)
+# Installs what is needed, builds, and starts the render service with its embedded defaults
+# (127.0.0.1:8080, data in ./data); it prints the URL to open. Ctrl-C stops it. Extra arguments go
+# to `caustic serve` (see `build/cli/caustic serve --help`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
-mkdir -p out
-./build/cli/caustic render scenes/cornell-spheres.json -o out/cornell-spheres.png -o out/cornell-spheres.exr
-echo "caustic: open $(pwd)/out/cornell-spheres.png (linear HDR: out/cornell-spheres.exr)"
+exec ./build/cli/caustic serve "$@"

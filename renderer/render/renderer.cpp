@@ -61,13 +61,15 @@ struct PassRenderer {
 };
 
 // Refuses a render that would not fit in settings.memory_limit, before its first pass: what is
-// built so far is measured, the integrator estimates its own peak.
-void checkMemory(const Scene& scene, const Accelerator& accel, const Film& film,
-                 const Integrator& integrator, const RenderSettings& settings) {
+// built so far is measured, the film is known from its size, the integrator estimates its peak.
+void checkMemory(const Scene& scene, const Accelerator& accel, const Integrator& integrator,
+                 const RenderSettings& settings) {
     const size_t limit = settings.memoryLimitBytes();
-    const size_t pixels = size_t(film.width()) * size_t(film.height());
-    const size_t built = scene.geometry.memoryBytes() + accel.memoryBytes() + film.memoryBytes() +
-                         pixels * sizeof(Color) + scene.lightTableBytes();
+    const size_t pixels = size_t(scene.camera.width()) * size_t(scene.camera.height());
+    // The film's sums and sums of squares in double, and the pass buffer.
+    const size_t film = pixels * (6 * sizeof(double) + sizeof(Color));
+    const size_t built =
+        scene.geometry.memoryBytes() + accel.memoryBytes() + film + scene.lightTableBytes();
     if (built > limit)
         throw InputError("/settings/memory_limit",
                          "the scene, its accelerator and the film already take " +
@@ -122,6 +124,11 @@ nlohmann::json RenderStats::toJson() const {
             {"memory", memory.toJson()}};
 }
 
+void checkRenderMemory(const Scene& scene, const RenderSettings& settings) {
+    std::unique_ptr<Accelerator> accel = createAccelerator(settings.accelerator, scene.geometry);
+    checkMemory(scene, *accel, *createIntegrator(scene, *accel, settings), settings);
+}
+
 RenderResult render(const Scene& scene, const RenderSettings& settings,
                     const RenderCallbacks& callbacks) {
     auto t0 = Clock::now();
@@ -145,7 +152,7 @@ RenderResult render(const Scene& scene, const RenderSettings& settings,
                                                   std::to_string(height));
         film = *callbacks.resume;
     }
-    checkMemory(scene, *accel, film, *integrator, settings);
+    checkMemory(scene, *accel, *integrator, settings);
     stats.integratorSeconds = secondsSince(tIntegrator);
     stats.setupSeconds = secondsSince(t0);
 

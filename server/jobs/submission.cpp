@@ -1,0 +1,112 @@
+#include "jobs/submission.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "render/renderer.h"
+#include "scene/json_reader.h"
+#include "scene/scene.h"
+
+namespace caustic::server {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string prefixed(const std::string& prefix, const std::string& path) {
+    return path == "/" || path.empty() ? prefix : prefix + path;
+}
+
+std::string formatLimit(double v) {
+    Json j = v;
+    if (v == double(int64_t(v))) j = int64_t(v);
+    return j.dump();
+}
+
+void atMost(const Json& settings, const char* key, double limit, const std::string& what) {
+    double v = settings[key].get<double>();
+    if (v > limit)
+        throw InputError(jsonPointer("/settings", key), "must be at most " + formatLimit(limit) +
+                                                            " on this server (" + what + "), got " +
+                                                            formatLimit(v));
+}
+
+Json resolveScene(const Json& scene, const ServerConfig& config, std::string& name) {
+    if (!scene.is_string()) {
+        if (!scene.is_object())
+            throw InputError("/scene",
+                             "expected a scene object or the name of an example scene, "
+                             "got " +
+                                 jsonTypeName(scene));
+        return scene;
+    }
+    name = scene.get<std::string>();
+    std::vector<std::string> names = exampleSceneNames(config.scenesDir);
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+        std::string valid;
+        for (const std::string& n : names) valid += (valid.empty() ? "" : ", ") + n;
+        throw InputError("/scene", "no example scene \"" + name + "\"; examples: " + valid);
+    }
+    return readJsonFile(config.scenesDir / (name + ".json"));
+}
+
+}  // namespace
+
+std::vector<std::string> exampleSceneNames(const fs::path& scenesDir) {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(scenesDir, ec))
+        if (entry.is_regular_file() && entry.path().extension() == ".json")
+            names.push_back(entry.path().stem().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+Job prepareJob(const Json& body, const ServerConfig& config) {
+    if (!body.is_object()) throw InputError("/", "expected an object, got " + jsonTypeName(body));
+    for (auto it = body.begin(); it != body.end(); ++it)
+        if (it.key() != "scene" && it.key() != "settings")
+            throw InputError(jsonPointer("", it.key()),
+                             "unknown field; a job has \"scene\" and \"settings\"");
+    if (!body.contains("scene"))
+        throw InputError("/scene", "required: a scene object or the name of an example scene");
+    const ServiceLimits& limits = config.limits;
+
+    Job job;
+    job.scene = resolveScene(body["scene"], config, job.sceneName);
+    SceneOptions options;
+    options.assetsDir = config.assetsDir;
+    options.maxResolution = limits.maxResolution;
+    options.maxPixels = limits.maxPixels;
+    std::unique_ptr<Scene> scene;
+    try {
+        scene = loadScene(job.scene, options);
+    } catch (const InputError& e) {
+        throw InputError(prefixed("/scene", e.path()), e.message());
+    }
+
+    // The scene's settings, checked where they are, then the request's over them.
+    parseSettings(scene->settings, "/scene/settings");
+    Json asked = body.value("settings", Json::object());
+    if (!asked.is_object())
+        throw InputError("/settings", "expected an object, got " + jsonTypeName(asked));
+    RenderSettings settings = parseSettings(mergeSettings(scene->settings, asked), "/settings");
+
+    // The service's limits.
+    Json s = settings.toJson();
+    atMost(s, "spp", limits.maxSpp, "samples per pixel");
+    atMost(s, "photons", double(limits.maxPhotons), "photon paths per pass");
+    atMost(s, "caustic_photons", double(limits.maxPhotons), "photon paths per pass");
+    atMost(s, "time_limit", limits.maxTimeLimit, "seconds per render");
+    atMost(s, "memory_limit", limits.maxMemoryMiB, "MiB per render");
+    if (settings.timeLimit == 0) settings.timeLimit = limits.maxTimeLimit;
+    if (settings.memoryLimit == 0) settings.memoryLimit = limits.maxMemoryMiB;
+    if (config.renderThreads > 0 &&
+        (settings.threads == 0 || settings.threads > config.renderThreads))
+        settings.threads = config.renderThreads;
+    checkRenderMemory(*scene, settings);
+
+    job.settings = settings.toJson();
+    return job;
+}
+
+}  // namespace caustic::server

@@ -1,0 +1,42 @@
+// Everything `caustic serve` can be told: where it listens and keeps its data, who may write, how
+// it renders, and the limits that protect a small machine (each a command-line flag, see
+// cli/serve_command.cpp).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace caustic::server {
+
+/// Limits on what a job may ask, checked before it is queued (422 names the JSON path; 413 for a
+/// body over the size, 429 for a full queue).
+struct ServiceLimits {
+    size_t maxRequestBytes = size_t(8) << 20;
+    int maxJsonDepth = 64;
+    int maxResolution = 4096;                  ///< Pixels per side.
+    int64_t maxPixels = int64_t(2048) * 2048;  ///< width x height.
+    int maxSpp = 65536;
+    int64_t maxPhotons = 10000000;  ///< photons and caustic_photons, per pass.
+    double maxTimeLimit = 3600;     ///< Seconds; a job that sets none gets this one.
+    double maxMemoryMiB = 4096;     ///< Estimated peak; a job's memory_limit is capped by it.
+    int maxQueuedJobs = 100;        ///< Queued (not yet running) jobs.
+    int maxEventStreams = 64;       ///< Concurrent Server-Sent Events connections.
+};
+
+struct ServerConfig {
+    std::string host = "127.0.0.1";
+    int port = 8080;
+    std::filesystem::path dataDir = "data";
+    std::filesystem::path assetsDir;  ///< Mesh files resolve inside it only.
+    std::filesystem::path scenesDir;  ///< Example scenes, submitted by name.
+    std::filesystem::path webDir;     ///< Static files of the web page.
+    std::string token;      ///< Bearer token for mutating requests; required off loopback.
+    int workers = 1;        ///< Jobs rendered at once.
+    int renderThreads = 0;  ///< Threads per render; 0 for every core.
+    double leaseSeconds = 10;
+    int maxStalledLeases = 3;
+    ServiceLimits limits;
+};
+
+}  // namespace caustic::server

@@ -1,0 +1,51 @@
+// A render job as the service stores it: what was asked (scene and settings), where it is in its
+// life (state, lease), and what it has produced so far (progress, convergence log, stats).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+namespace caustic::server {
+
+using Json = nlohmann::json;
+
+/// queued -> running -> succeeded | failed | cancelled; running -> queued when a lease expires.
+enum class JobState { Queued, Running, Succeeded, Failed, Cancelled };
+
+std::string toString(JobState s);
+std::optional<JobState> parseJobState(std::string_view s);
+inline bool isTerminal(JobState s) {
+    return s == JobState::Succeeded || s == JobState::Failed || s == JobState::Cancelled;
+}
+
+struct Job {
+    std::string id;
+    int64_t seq = 0;  ///< Submission order, assigned by the store.
+    JobState state = JobState::Queued;
+    Json scene;     ///< The scene object to render (an example name is resolved at submission).
+    Json settings;  ///< The complete, validated settings.
+    std::string sceneName;  ///< The example scene's name when one was asked for by name.
+    double createdAt = 0, startedAt = 0, finishedAt = 0;  ///< Unix seconds; 0 for not yet.
+
+    // The lease protocol (store/job_store.h).
+    int attempt = 0;  ///< Leases granted so far; every write of a lease holder names it.
+    std::string leaseOwner;
+    double leaseExpires = 0;
+    int stalledLeases = 0;  ///< Leases in a row that expired before their holder finished a pass.
+    bool cancelRequested = false;
+
+    // Progress of the current (or last) attempt, and the result.
+    double progress = 0;  ///< Of the spp budget, in [0, 1].
+    int passesDone = 0, passesTotal = 0;
+    double relativeError = 0;          ///< NaN before two passes.
+    double etaSeconds = -1;            ///< -1 while unknown.
+    Json convergence = Json::array();  ///< [{pass, seconds, relative_error}], one per pass.
+    Json stats;                        ///< RenderStats::toJson() of the finished render.
+    std::string error;                 ///< Why it failed or was cancelled.
+};
+
+}  // namespace caustic::server

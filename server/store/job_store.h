@@ -1,0 +1,81 @@
+// The durable job queue and its lease protocol, one interface over SQLite (embedded default) and,
+// later, PostgreSQL (scale-out).
+//
+// Protocol (DESIGN.md, "Service"). A worker claims the oldest queued job with a lease: the store
+// sets it running, increments its `attempt` and records the owner and an expiry time. The holder
+// renews the lease by heartbeats, and every write it makes (a finished pass, the outcome) names
+// (id, attempt): a write whose attempt is no longer the job's current one changes nothing and
+// returns false, so a worker that lost its lease (it stalled, or the store gave the job to
+// another) can never overwrite a newer attempt's state. A lease that expires puts the job back in
+// the queue; a job whose leases expire `maxStalledLeases` times in a row without finishing a pass
+// (it crashes whoever renders it) fails with the reason. Files a job writes go to a temporary name
+// and are renamed, and every pass of a render depends only on its index, so that two attempts write
+// the same bytes: which one's rename wins does not matter.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "store/job.h"
+
+namespace caustic::server {
+
+/// The first response to a request with an Idempotency-Key, kept to be returned on retries.
+struct StoredResponse {
+    std::string requestHash;  ///< Of the request body: a retry must send the same body.
+    int status = 0;
+    std::string body;
+    std::string jobId;
+};
+
+/// What a heartbeat learns.
+enum class LeaseStatus { Held, CancelRequested, Lost };
+
+struct JobPage {
+    std::vector<Job> jobs;
+    std::optional<int64_t> next;  ///< Cursor (a seq) for the next page, if there is one.
+};
+
+class JobStore {
+public:
+    virtual ~JobStore() = default;
+
+    /// Adds a queued job; assigns job.seq. With `key`, atomically records `response` under it; if
+    /// the key is taken (a concurrent retry), adds nothing and returns the stored response.
+    virtual std::optional<StoredResponse> insert(Job& job, const std::string& key = {},
+                                                 const StoredResponse& response = {}) = 0;
+    virtual std::optional<StoredResponse> storedResponse(const std::string& key) = 0;
+
+    virtual std::optional<Job> get(const std::string& id) = 0;
+    /// Jobs by submission order, newest first, from cursor `before` (a seq; none for the newest).
+    virtual JobPage list(std::optional<JobState> state, int limit,
+                         std::optional<int64_t> before) = 0;
+    virtual std::map<JobState, int64_t> countByState() = 0;
+
+    /// Re-queues (or fails) jobs whose leases expired by `now`, then leases the oldest queued job
+    /// to `owner` until now + leaseSeconds. Nothing when the queue is empty.
+    virtual std::optional<Job> claim(const std::string& owner, double now, double leaseSeconds,
+                                     int maxStalledLeases) = 0;
+    /// Expires every lease not held by `owner` (an embedded store at start-up: the previous
+    /// process is gone, and a lock on the data folder proves no other one runs).
+    virtual int expireLeasesNotOwnedBy(const std::string& owner) = 0;
+    virtual LeaseStatus heartbeat(const std::string& id, int attempt, double now,
+                                  double leaseSeconds) = 0;
+    /// Records a finished pass: progress, the convergence point, and stalledLeases = 0.
+    virtual bool recordPass(const std::string& id, int attempt, double progress, int passesDone,
+                            int passesTotal, double relativeError, double etaSeconds,
+                            const Json& convergencePoint) = 0;
+    /// Ends the attempt: state succeeded, failed or cancelled, with stats and the error text.
+    virtual bool finish(const std::string& id, int attempt, JobState state, const Json& stats,
+                        const std::string& error, double now) = 0;
+
+    /// Cancels a queued job at once; asks a running one's holder to stop (it sees it in its next
+    /// heartbeat). Returns the job after the change; nothing for an unknown id.
+    virtual std::optional<Job> cancel(const std::string& id, double now) = 0;
+    /// Removes a job and its idempotency record. False for an unknown id.
+    virtual bool remove(const std::string& id) = 0;
+};
+
+}  // namespace caustic::server

@@ -1,0 +1,48 @@
+// The embedded job store: one SQLite file in the data folder (WAL journal, so readers do not wait
+// for the writer). One connection behind a mutex: every operation is a short transaction.
+#pragma once
+
+#include <filesystem>
+#include <mutex>
+
+#include "store/job_store.h"
+
+struct sqlite3;
+
+namespace caustic::server {
+
+class SqliteJobStore final : public JobStore {
+public:
+    /// Opens (creating if needed) the database file. Throws std::runtime_error on failure.
+    explicit SqliteJobStore(const std::filesystem::path& file);
+    ~SqliteJobStore() override;
+    SqliteJobStore(const SqliteJobStore&) = delete;
+    SqliteJobStore& operator=(const SqliteJobStore&) = delete;
+
+    std::optional<StoredResponse> insert(Job& job, const std::string& key,
+                                         const StoredResponse& response) override;
+    std::optional<StoredResponse> storedResponse(const std::string& key) override;
+    std::optional<Job> get(const std::string& id) override;
+    JobPage list(std::optional<JobState> state, int limit, std::optional<int64_t> before) override;
+    std::map<JobState, int64_t> countByState() override;
+    std::optional<Job> claim(const std::string& owner, double now, double leaseSeconds,
+                             int maxStalledLeases) override;
+    int expireLeasesNotOwnedBy(const std::string& owner) override;
+    LeaseStatus heartbeat(const std::string& id, int attempt, double now,
+                          double leaseSeconds) override;
+    bool recordPass(const std::string& id, int attempt, double progress, int passesDone,
+                    int passesTotal, double relativeError, double etaSeconds,
+                    const Json& convergencePoint) override;
+    bool finish(const std::string& id, int attempt, JobState state, const Json& stats,
+                const std::string& error, double now) override;
+    std::optional<Job> cancel(const std::string& id, double now) override;
+    bool remove(const std::string& id) override;
+
+private:
+    std::optional<Job> getLocked(const std::string& id);
+
+    sqlite3* db_ = nullptr;
+    std::mutex mutex_;
+};
+
+}  // namespace caustic::server
