@@ -1,0 +1,211 @@
+// The job store's lease protocol (server/store/job_store.h) on SQLite: claims in submission order,
+// writes fenced by attempt, expired leases requeued, jobs that stall too often failed, cancellation
+// of queued and running jobs, idempotency records, paging.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+
+#include "store/sqlite_job_store.h"
+
+namespace caustic::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+class JobStoreTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ =
+            fs::temp_directory_path() / ("caustic-store-" + std::to_string(std::random_device{}()));
+        fs::create_directories(dir_);
+        store_ = std::make_unique<SqliteJobStore>(dir_ / "jobs.sqlite3");
+    }
+    void TearDown() override {
+        store_.reset();
+        fs::remove_all(dir_);
+    }
+    Job submit(const std::string& id, double at = 100) {
+        Job j;
+        j.id = id;
+        j.scene = Json{{"camera", {{"width", 4}}}};
+        j.settings = Json{{"spp", 4}};
+        j.createdAt = at;
+        store_->insert(j);
+        return j;
+    }
+
+    fs::path dir_;
+    std::unique_ptr<JobStore> store_;
+};
+
+constexpr double kLease = 10;
+
+TEST_F(JobStoreTest, ClaimsInSubmissionOrderWithALease) {
+    submit("a");
+    submit("b");
+    std::optional<Job> first = store_->claim("w1", 1000, kLease, 3);
+    ASSERT_TRUE(first);
+    EXPECT_EQ(first->id, "a");
+    EXPECT_EQ(first->state, JobState::Running);
+    EXPECT_EQ(first->attempt, 1);
+    EXPECT_EQ(first->leaseOwner, "w1");
+    EXPECT_DOUBLE_EQ(first->leaseExpires, 1000 + kLease);
+    EXPECT_DOUBLE_EQ(first->startedAt, 1000);
+    EXPECT_EQ(first->scene, (Json{{"camera", {{"width", 4}}}}));
+    EXPECT_EQ(store_->claim("w2", 1000, kLease, 3)->id, "b");
+    EXPECT_FALSE(store_->claim("w3", 1000, kLease, 3));
+}
+
+TEST_F(JobStoreTest, WritesOfAStaleAttemptChangeNothing) {
+    submit("a");
+    Job one = *store_->claim("w1", 1000, kLease, 3);
+    // The lease expires; another worker takes the job over.
+    Job two = *store_->claim("w2", 1000 + kLease + 1, kLease, 3);
+    EXPECT_EQ(two.id, "a");
+    EXPECT_EQ(two.attempt, 2);
+    EXPECT_EQ(store_->heartbeat("a", one.attempt, 1012, kLease), LeaseStatus::Lost);
+    EXPECT_FALSE(store_->recordPass("a", one.attempt, 0.5, 1, 2, 0.1, 1, Json{{"pass", 1}}));
+    EXPECT_FALSE(store_->finish("a", one.attempt, JobState::Succeeded, Json::object(), "", 1013));
+    EXPECT_EQ(store_->heartbeat("a", two.attempt, 1012, kLease), LeaseStatus::Held);
+    EXPECT_TRUE(store_->recordPass("a", two.attempt, 0.5, 1, 2, 0.1, 1, Json{{"pass", 1}}));
+    EXPECT_TRUE(store_->finish("a", two.attempt, JobState::Succeeded, Json{{"rays", 7}}, "", 1014));
+    // Finished once: a second finish of the same attempt changes nothing either.
+    EXPECT_FALSE(store_->finish("a", two.attempt, JobState::Failed, Json::object(), "x", 1015));
+    Job done = *store_->get("a");
+    EXPECT_EQ(done.state, JobState::Succeeded);
+    EXPECT_EQ(done.stats, (Json{{"rays", 7}}));
+    EXPECT_DOUBLE_EQ(done.progress, 1.0);
+    EXPECT_EQ(done.convergence.size(), 1u);
+    EXPECT_DOUBLE_EQ(done.finishedAt, 1014);
+}
+
+TEST_F(JobStoreTest, HeartbeatsKeepTheLease) {
+    submit("a");
+    Job one = *store_->claim("w1", 1000, kLease, 3);
+    for (double t = 1005; t < 1100; t += 5)
+        ASSERT_EQ(store_->heartbeat("a", one.attempt, t, kLease), LeaseStatus::Held);
+    EXPECT_FALSE(store_->claim("w2", 1100, kLease, 3));
+}
+
+TEST_F(JobStoreTest, JobsThatStallTooOftenFailWithTheReason) {
+    submit("a");
+    double t = 1000;
+    for (int i = 0; i < 2; ++i) {
+        Job j = *store_->claim("w", t, kLease, 3);
+        EXPECT_EQ(j.attempt, i + 1);
+        t += kLease + 1;
+    }
+    // A finished pass resets the count: stalls must be in a row.
+    Job third = *store_->claim("w", t, kLease, 3);
+    EXPECT_EQ(third.stalledLeases, 2);
+    ASSERT_TRUE(store_->recordPass("a", third.attempt, 0.1, 1, 10, 0.2, 5, Json{{"pass", 1}}));
+    t += kLease + 1;
+    for (int i = 0; i < 2; ++i) {
+        ASSERT_TRUE(store_->claim("w", t, kLease, 3));
+        t += kLease + 1;
+    }
+    EXPECT_FALSE(store_->claim("w", t, kLease, 3));
+    Job failed = *store_->get("a");
+    EXPECT_EQ(failed.state, JobState::Failed);
+    EXPECT_EQ(failed.stalledLeases, 3);
+    EXPECT_NE(failed.error.find("3 times in a row"), std::string::npos) << failed.error;
+}
+
+TEST_F(JobStoreTest, StartUpExpiresOtherOwnersLeases) {
+    submit("a");
+    submit("b");
+    store_->claim("old", 1000, kLease, 3);
+    store_->claim("new", 1000, kLease, 3);
+    EXPECT_EQ(store_->expireLeasesNotOwnedBy("new"), 1);
+    // "a" is claimable at once, long before its lease would have expired; "b" is still held.
+    std::optional<Job> again = store_->claim("new", 1001, kLease, 3);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->id, "a");
+    EXPECT_EQ(again->attempt, 2);
+}
+
+TEST_F(JobStoreTest, CancelStopsQueuedJobsAtOnceAndAsksRunningOnes) {
+    submit("queued");
+    submit("running");
+    store_->cancel("queued", 1);  // before any claim
+    Job running = *store_->claim("w", 1000, kLease, 3);
+    EXPECT_EQ(running.id, "running");
+    EXPECT_EQ(store_->get("queued")->state, JobState::Cancelled);
+
+    std::optional<Job> asked = store_->cancel("running", 1001);
+    EXPECT_EQ(asked->state, JobState::Running);
+    EXPECT_TRUE(asked->cancelRequested);
+    EXPECT_EQ(store_->heartbeat("running", running.attempt, 1002, kLease),
+              LeaseStatus::CancelRequested);
+    EXPECT_TRUE(store_->finish("running", running.attempt, JobState::Cancelled, nullptr,
+                               "cancelled", 1003));
+    EXPECT_EQ(store_->get("running")->state, JobState::Cancelled);
+    EXPECT_FALSE(store_->cancel("nobody", 1));
+
+    // A running job whose renderer vanished after a cancel request ends cancelled, not requeued.
+    submit("orphan");
+    Job orphan = *store_->claim("w", 2000, kLease, 3);
+    store_->cancel("orphan", 2001);
+    EXPECT_FALSE(store_->claim("w", 2000 + kLease + 1, kLease, 3));
+    EXPECT_EQ(store_->get("orphan")->state, JobState::Cancelled);
+    (void)orphan;
+}
+
+TEST_F(JobStoreTest, IdempotencyKeysKeepTheFirstResponse) {
+    Job a;
+    a.id = "a";
+    a.scene = a.settings = Json::object();
+    EXPECT_FALSE(store_->insert(a, "key", StoredResponse{"h1", 202, "{\"id\":\"a\"}", "a"}));
+    Job b = a;
+    b.id = "b";
+    std::optional<StoredResponse> first =
+        store_->insert(b, "key", StoredResponse{"h2", 202, "{\"id\":\"b\"}", "b"});
+    ASSERT_TRUE(first);
+    EXPECT_EQ(first->requestHash, "h1");
+    EXPECT_EQ(first->jobId, "a");
+    EXPECT_EQ(first->body, "{\"id\":\"a\"}");
+    EXPECT_FALSE(store_->get("b"));  // nothing added
+    EXPECT_EQ(store_->storedResponse("key")->status, 202);
+    // Deleting the job frees its key.
+    EXPECT_TRUE(store_->remove("a"));
+    EXPECT_FALSE(store_->storedResponse("key"));
+    EXPECT_FALSE(store_->remove("a"));
+}
+
+TEST_F(JobStoreTest, ListsNewestFirstInPagesAndByState) {
+    for (int i = 0; i < 7; ++i) submit(std::string(1, 'j').append(std::to_string(i)));
+    store_->claim("w", 1000, kLease, 3);  // j0 runs
+    std::vector<std::string> seen;
+    std::optional<int64_t> cursor;
+    do {
+        JobPage page = store_->list(std::nullopt, 3, cursor);
+        EXPECT_LE(page.jobs.size(), 3u);
+        for (const Job& j : page.jobs) seen.push_back(j.id);
+        cursor = page.next;
+    } while (cursor);
+    EXPECT_EQ(seen, (std::vector<std::string>{"j6", "j5", "j4", "j3", "j2", "j1", "j0"}));
+    JobPage running = store_->list(JobState::Running, 10, std::nullopt);
+    ASSERT_EQ(running.jobs.size(), 1u);
+    EXPECT_EQ(running.jobs[0].id, "j0");
+    EXPECT_FALSE(running.next);
+    auto counts = store_->countByState();
+    EXPECT_EQ(counts[JobState::Queued], 6);
+    EXPECT_EQ(counts[JobState::Running], 1);
+    EXPECT_EQ(counts[JobState::Failed], 0);
+}
+
+TEST_F(JobStoreTest, SurvivesReopening) {
+    submit("a");
+    Job one = *store_->claim("w", 1000, kLease, 3);
+    ASSERT_TRUE(store_->recordPass("a", one.attempt, 0.25, 1, 4, 0.3, 3, Json{{"pass", 1}}));
+    store_ = std::make_unique<SqliteJobStore>(dir_ / "jobs.sqlite3");
+    Job back = *store_->get("a");
+    EXPECT_EQ(back.state, JobState::Running);
+    EXPECT_EQ(back.passesDone, 1);
+    EXPECT_DOUBLE_EQ(back.relativeError, 0.3);
+    EXPECT_EQ(back.convergence, (Json::array({Json{{"pass", 1}}})));
+}
+
+}  // namespace
+}  // namespace caustic::server
