@@ -119,8 +119,14 @@ void WorkerPool::renderJob(Job job) {
         callbacks.onProgress = [&](const RenderProgress& p) {
             LiveProgress live{p.fraction,       p.passesDone,    p.passesTotal,
                               p.elapsedSeconds, p.relativeError, -1};
+            // The spp budget at the rate so far, or the time limit if that comes first (a target
+            // error may stop it sooner still; that cannot be foreseen).
             if (p.fraction > 0 && p.elapsedSeconds > 0)
                 live.etaSeconds = p.elapsedSeconds * (1 - p.fraction) / p.fraction;
+            if (settings.timeLimit > 0) {
+                double left = std::max(0.0, settings.timeLimit - p.elapsedSeconds);
+                live.etaSeconds = live.etaSeconds < 0 ? left : std::min(live.etaSeconds, left);
+            }
             events_.setLive(id, live);
         };
         callbacks.onPass = [&](const Film& film) {
