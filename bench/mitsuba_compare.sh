@@ -21,20 +21,7 @@ fi
 build_dir="$(cd "$(dirname "$caustic")/.." && pwd)"
 venv="$build_dir/bench-venv"
 
-# Debian ships venv (with ensurepip) apart from python3: install it when a venv cannot be made.
-if [ ! -x "$venv/bin/python" ] && ! python3 -m venv "$venv" 2>/dev/null; then
-    rm -rf "$venv"
-    sudo_cmd=()
-    if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
-    echo "mitsuba_compare: installing python3-venv" >&2
-    export DEBIAN_FRONTEND=noninteractive
-    "${sudo_cmd[@]}" apt-get update -qq
-    "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends python3-venv >/dev/null
-    python3 -m venv "$venv"
-fi
-# pip only reaches the network when a package is missing.
-if ! "$venv/bin/python" -c "import mitsuba, numpy" 2>/dev/null; then
-    "$venv/bin/python" -m pip install --quiet mitsuba numpy >&2
-fi
+source "$repo/scripts/python-venv.sh"
+ensure_venv "$venv" mitsuba numpy
 
 exec "$venv/bin/python" "$repo/bench/mitsuba_compare.py" --caustic "$caustic" "$@"
