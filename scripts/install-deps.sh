@@ -11,8 +11,9 @@ packages=(
     libembree-dev
     # Render service
     libcpp-httplib-dev libsqlite3-dev
-    # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a venv)
-    libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv
+    # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a venv;
+    # wrk and curl: bench/status_latency.sh)
+    libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv wrk curl
 )
 
 sudo_cmd=()

@@ -37,6 +37,7 @@ private:
 
     ServerConfig config_;
     int lockFd_ = -1;
+    int faultFd_ = -1;  ///< The fault record, written only when the process dies of a fault.
     std::unique_ptr<JobStore> store_;
     JobFiles files_;
     JobEvents events_;

@@ -24,6 +24,9 @@ Vec3 MeshTransform::apply(const Vec3& p) const {
 fs::path resolveAsset(const fs::path& assetsDir, const std::string& name, const std::string& path) {
     fs::path rel(name);
     if (name.empty()) throw InputError(path, "must name a file in the assets folder");
+    // The file system would read the name only up to a NUL byte.
+    if (name.find('\0') != std::string::npos)
+        throw InputError(path, "a file name must not contain a NUL byte");
     // An empty folder would resolve names against the working directory.
     if (assetsDir.empty()) throw InputError(path, "no assets folder is configured");
     if (rel.is_absolute() || rel.has_root_name() || rel.has_root_directory())

@@ -17,6 +17,8 @@ const char* statusTitle(int status) {
             return "Method Not Allowed";
         case 409:
             return "Conflict";
+        case 411:
+            return "Length Required";
         case 413:
             return "Content Too Large";
         case 414:
@@ -48,7 +50,11 @@ void sendProblem(httplib::Response& res, int status, const std::string& detail,
                         {"detail", detail}};
     if (!pointer.empty()) body["pointer"] = pointer;
     res.status = status;
-    res.set_content(body.dump(), "application/problem+json");
+    // A detail may quote the request (a malformed body, a header): bytes that are not UTF-8 become
+    // U+FFFD instead of failing the error response itself, and anything not ASCII is escaped, so
+    // that a client that guesses the charset (there is no charset parameter) still reads JSON.
+    res.set_content(body.dump(-1, ' ', true, nlohmann::json::error_handler_t::replace),
+                    "application/problem+json");
 }
 
 }  // namespace caustic::server

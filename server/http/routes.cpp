@@ -1,5 +1,7 @@
 #include "http/routes.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <fstream>
 #include <random>
@@ -111,6 +113,10 @@ void submitJob(ApiContext& api, const httplib::Request& req, httplib::Response& 
         if (std::optional<StoredResponse> stored = api.store.storedResponse(key))
             return replay(*stored);
 
+    // nlohmann::json takes a NUL byte for the end of its input, so whatever followed one would
+    // pass unread; JSON text has none (RFC 8259).
+    if (size_t nul = req.body.find('\0'); nul != std::string::npos)
+        return sendProblem(res, 400, "malformed JSON: a NUL byte at offset " + std::to_string(nul));
     Json body;
     try {
         body = parseBody(req.body, api.config.limits.maxJsonDepth);
@@ -255,15 +261,40 @@ void registerRoutes(httplib::Server& http, ApiContext& api) {
     http.set_payload_max_length(api.config.limits.maxRequestBytes);
 
     http.set_pre_routing_handler([&api](const httplib::Request& req, httplib::Response& res) {
+        // Answered here, before cpp-httplib reads the body: the client must close the
+        // connection, or its next request on it would be read from the body left unread.
+        auto refuse = [&res](int status, const std::string& detail) {
+            res.set_header("Connection", "close");
+            sendProblem(res, status, detail);
+            return httplib::Server::HandlerResponse::Handled;
+        };
+        // A decoded %00 would cut a static file's name short ("/index.html%00.png").
+        if (req.path.find('\0') != std::string::npos) return refuse(400, "the path has a NUL byte");
+        // Only a Content-Length holds a body to --max-request-bytes: cpp-httplib reads chunked
+        // and compressed bodies whole, whatever their size, and a POST with neither header until
+        // the connection closes.
+        if (req.has_header("Transfer-Encoding"))
+            return refuse(411, "send the body with a Content-Length, not chunked");
+        if (const std::string coding = req.get_header_value("Content-Encoding");
+            !coding.empty() && coding != "identity")
+            return refuse(415, "compressed bodies (Content-Encoding) are not accepted");
+        // A request with neither header has no body (RFC 9112, section 6.3), as in
+        // `curl -X POST .../cancel`. `req` is the server's own, not a const object.
+        if (!req.has_header("Content-Length"))
+            const_cast<httplib::Request&>(req).set_header("Content-Length", "0");
+
         if (api.config.token.empty() || !mutating(req.method))
             return httplib::Server::HandlerResponse::Unhandled;
         const std::string auth = req.get_header_value("Authorization");
-        const std::string prefix = "Bearer ";
-        if (auth.rfind(prefix, 0) == 0 && sameToken(auth.substr(prefix.size()), api.config.token))
+        // The scheme is case-insensitive (RFC 9110, section 11.1); the token is not.
+        const std::string prefix = "bearer ";
+        if (auth.size() >= prefix.size() &&
+            std::equal(prefix.begin(), prefix.end(), auth.begin(),
+                       [](char a, char b) { return a == std::tolower((unsigned char)b); }) &&
+            sameToken(auth.substr(prefix.size()), api.config.token))
             return httplib::Server::HandlerResponse::Unhandled;
         res.set_header("WWW-Authenticate", "Bearer");
-        sendProblem(res, 401, "this server needs \"Authorization: Bearer <token>\" to change jobs");
-        return httplib::Server::HandlerResponse::Handled;
+        return refuse(401, "this server needs \"Authorization: Bearer <token>\" to change jobs");
     });
     // Every error without a body of its own (unknown routes, a body over the limit) gets one.
     http.set_error_handler([](const httplib::Request&, httplib::Response& res) {

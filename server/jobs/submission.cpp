@@ -94,8 +94,11 @@ Job prepareJob(const Json& body, const ServerConfig& config) {
     // The service's limits.
     Json s = settings.toJson();
     atMost(s, "spp", limits.maxSpp, "samples per pixel");
-    atMost(s, "photons", double(limits.maxPhotons), "photon paths per pass");
-    atMost(s, "caustic_photons", double(limits.maxPhotons), "photon paths per pass");
+    // Only the photon integrators trace photons: a path-traced job keeps the default photons.
+    if (settings.integrator == "photon" || settings.integrator == "ppm") {
+        atMost(s, "photons", double(limits.maxPhotons), "photon paths per pass");
+        atMost(s, "caustic_photons", double(limits.maxPhotons), "photon paths per pass");
+    }
     atMost(s, "time_limit", limits.maxTimeLimit, "seconds per render");
     atMost(s, "memory_limit", limits.maxMemoryMiB, "MiB per render");
     if (settings.timeLimit == 0) settings.timeLimit = limits.maxTimeLimit;

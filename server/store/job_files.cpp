@@ -94,4 +94,22 @@ void JobFiles::remove(const std::string& id) const {
     fs::remove_all(dir(id), ec);
 }
 
+int JobFiles::removeTemporaryFiles() const {
+    // A job's own files have fixed names; ".tmp" marks those of writeFileAtomically and
+    // caustic::writeImage.
+    int removed = 0;
+    std::error_code ec;
+    try {
+        for (const auto& job : fs::directory_iterator(root_, ec))
+            for (const auto& file : fs::directory_iterator(job.path(), ec))
+                if (file.is_regular_file(ec) &&
+                    file.path().filename().string().find(".tmp") != std::string::npos &&
+                    fs::remove(file.path(), ec))
+                    ++removed;
+    } catch (const fs::filesystem_error&) {
+        // A folder that cannot be read keeps its leftovers: they only take space.
+    }
+    return removed;
+}
+
 }  // namespace caustic::server

@@ -32,6 +32,9 @@ public:
                     double exposure) const;
     /// Deletes every file of the job.
     void remove(const std::string& id) const;
+    /// Deletes the temporary files that writers killed before their rename left in job folders
+    /// (at start-up, when the data folder's lock proves that nobody is writing); returns how many.
+    int removeTemporaryFiles() const;
 
 private:
     std::filesystem::path root_;

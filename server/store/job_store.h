@@ -58,9 +58,13 @@ public:
     /// to `owner` until now + leaseSeconds. Nothing when the queue is empty.
     virtual std::optional<Job> claim(const std::string& owner, double now, double leaseSeconds,
                                      int maxStalledLeases) = 0;
-    /// Expires every lease not held by `owner` (an embedded store at start-up: the previous
-    /// process is gone, and a lock on the data folder proves no other one runs).
-    virtual int expireLeasesNotOwnedBy(const std::string& owner) = 0;
+    /// Ends every lease not held by `owner` (an embedded store at start-up: the previous
+    /// process is gone, and a lock on the data folder proves no other one runs). With `blame`
+    /// (that process died of a fault), the leases expire as stalled ones do: claim() counts them
+    /// against maxStalledLeases. Without (it was killed or stopped from outside, which says
+    /// nothing about the jobs it rendered), the jobs go straight back to the queue with their
+    /// stall counts unchanged; those whose cancellation was asked still end cancelled in claim().
+    virtual int expireLeasesNotOwnedBy(const std::string& owner, bool blame) = 0;
     virtual LeaseStatus heartbeat(const std::string& id, int attempt, double now,
                                   double leaseSeconds) = 0;
     /// Records a finished pass: progress, the convergence point, and stalledLeases = 0.

@@ -343,13 +343,22 @@ std::optional<Job> SqliteJobStore::claim(const std::string& owner, double now, d
     return job;
 }
 
-int SqliteJobStore::expireLeasesNotOwnedBy(const std::string& owner) {
+int SqliteJobStore::expireLeasesNotOwnedBy(const std::string& owner, bool blame) {
     std::lock_guard lock(mutex_);
-    return Statement(db_,
-                     "UPDATE jobs SET lease_expires = 0 WHERE state = 'running' AND lease_owner "
-                     "<> ?")
-        .bind(1, owner)
-        .run();
+    Transaction tx(db_);
+    int n = 0;
+    if (!blame)
+        n += Statement(db_,
+                       "UPDATE jobs SET state = 'queued', lease_owner = '', lease_expires = 0 "
+                       "WHERE state = 'running' AND lease_owner <> ? AND cancel_requested = 0")
+                 .bind(1, owner)
+                 .run();
+    n += Statement(db_,
+                   "UPDATE jobs SET lease_expires = 0 WHERE state = 'running' AND lease_owner <> ?")
+             .bind(1, owner)
+             .run();
+    tx.commit();
+    return n;
 }
 
 LeaseStatus SqliteJobStore::heartbeat(const std::string& id, int attempt, double now,

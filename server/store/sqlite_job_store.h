@@ -27,7 +27,7 @@ public:
     std::map<JobState, int64_t> countByState() override;
     std::optional<Job> claim(const std::string& owner, double now, double leaseSeconds,
                              int maxStalledLeases) override;
-    int expireLeasesNotOwnedBy(const std::string& owner) override;
+    int expireLeasesNotOwnedBy(const std::string& owner, bool blame) override;
     LeaseStatus heartbeat(const std::string& id, int attempt, double now,
                           double leaseSeconds) override;
     bool recordPass(const std::string& id, int attempt, double progress, int passesDone,

@@ -117,12 +117,32 @@ TEST_F(JobStoreTest, StartUpExpiresOtherOwnersLeases) {
     submit("b");
     store_->claim("old", 1000, kLease, 3);
     store_->claim("new", 1000, kLease, 3);
-    EXPECT_EQ(store_->expireLeasesNotOwnedBy("new"), 1);
+    EXPECT_EQ(store_->expireLeasesNotOwnedBy("new", true), 1);
     // "a" is claimable at once, long before its lease would have expired; "b" is still held.
     std::optional<Job> again = store_->claim("new", 1001, kLease, 3);
     ASSERT_TRUE(again);
     EXPECT_EQ(again->id, "a");
     EXPECT_EQ(again->attempt, 2);
+    EXPECT_EQ(again->stalledLeases, 1);  // the old process died of a fault: it counts
+}
+
+TEST_F(JobStoreTest, StartUpAfterAKillRequeuesWithoutCountingAStall) {
+    submit("a");
+    submit("b");
+    Job a = *store_->claim("old", 1000, kLease, 3);
+    store_->claim("old", 1000, kLease, 3);
+    store_->cancel("b", 1000);
+    // Killed again and again before a pass: never failed for it.
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_EQ(store_->expireLeasesNotOwnedBy("new" + std::to_string(i), false), i == 0 ? 2 : 1);
+        EXPECT_EQ(store_->get("a")->state, JobState::Queued);
+        a = *store_->claim("new" + std::to_string(i), 1001 + i, kLease, 3);
+        EXPECT_EQ(a.id, "a");
+        EXPECT_EQ(a.attempt, i + 2);
+        EXPECT_EQ(a.stalledLeases, 0);
+    }
+    // The job whose cancellation was asked ends cancelled, not queued.
+    EXPECT_EQ(store_->get("b")->state, JobState::Cancelled);
 }
 
 TEST_F(JobStoreTest, CancelStopsQueuedJobsAtOnceAndAsksRunningOnes) {
