@@ -31,6 +31,8 @@ constexpr const char* kUsage =
     "  --max-stalled-leases N   leases in a row that may expire before a pass finishes before\n"
     "                           the job fails (default 3); a server killed or stopped from\n"
     "                           outside does not count, one that dies of a fault does\n"
+    "  --max-attempts N         starts of one job, whatever stopped them, before it fails\n"
+    "                           (default 100; guards against out-of-memory kills)\n"
     "limits (a job over one gets 422 naming the field; defaults protect a small machine):\n"
     "  --max-request-bytes N (8388608)  --max-resolution N (4096)  --max-pixels N (4194304)\n"
     "  --max-spp N (65536)  --max-photons N (10000000)  --max-time-limit S (3600)\n"
@@ -97,6 +99,8 @@ ServerConfig parseArgs(const std::vector<std::string>& args) {
             c.leaseSeconds = number(a, value(), 0.5, 3600);
         else if (a == "--max-stalled-leases")
             c.maxStalledLeases = int(integer(1, 1000));
+        else if (a == "--max-attempts")
+            c.maxAttempts = int(integer(1, 1000000));
         else if (a == "--max-request-bytes")
             l.maxRequestBytes = size_t(integer(1024, 1e9));
         else if (a == "--max-resolution")

@@ -36,6 +36,7 @@ struct ServerConfig {
     int renderThreads = 0;  ///< Threads per render; 0 for every core.
     double leaseSeconds = 10;
     int maxStalledLeases = 3;
+    int maxAttempts = 100;  ///< Starts of one job, whatever stopped them.
     ServiceLimits limits;
 };
 

@@ -1,5 +1,9 @@
 #include "film/image_io.h"
 
+#include <unistd.h>
+
+#include <atomic>
+
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
@@ -20,8 +24,11 @@ void writeImage(const fs::path& file, const RgbImage& image, double exposure) {
     if (ext != ".exr" && ext != ".png")
         throw std::runtime_error("unsupported image type \"" + ext + "\" for " + file.string() +
                                  " (use .png or .exr)");
+    // A name of its own per call, so that two writers of one file (two attempts of a server job)
+    // never write into each other's temporary file; the renames are atomic.
+    static std::atomic<uint64_t> counter{0};
     fs::path tmp = file;
-    tmp += ".tmp";
+    tmp += ".tmp" + std::to_string(::getpid()) + "." + std::to_string(counter++);
     auto out = OIIO::ImageOutput::create(ext.substr(1));
     if (!out) throw std::runtime_error("OpenImageIO cannot write " + ext + ": " + OIIO::geterror());
     bool ok;

@@ -48,7 +48,8 @@ void WorkerPool::run() {
     while (!stopping_) {
         std::optional<Job> job;
         try {
-            job = store_.claim(owner_, unixNow(), config_.leaseSeconds, config_.maxStalledLeases);
+            job = store_.claim(owner_, unixNow(), config_.leaseSeconds, config_.maxStalledLeases,
+                               config_.maxAttempts);
         } catch (const std::exception& e) {
             std::cerr << "caustic serve: claiming a job: " << e.what() << "\n";
         }

@@ -55,9 +55,11 @@ public:
     virtual std::map<JobState, int64_t> countByState() = 0;
 
     /// Re-queues (or fails) jobs whose leases expired by `now`, then leases the oldest queued job
-    /// to `owner` until now + leaseSeconds. Nothing when the queue is empty.
+    /// to `owner` until now + leaseSeconds. Nothing when the queue is empty. A queued job already
+    /// started `maxAttempts` times fails instead: the last guard against a job that takes down
+    /// whoever renders it without leaving a fault record (the kernel's out-of-memory kill).
     virtual std::optional<Job> claim(const std::string& owner, double now, double leaseSeconds,
-                                     int maxStalledLeases) = 0;
+                                     int maxStalledLeases, int maxAttempts) = 0;
     /// Ends every lease not held by `owner` (an embedded store at start-up: the previous
     /// process is gone, and a lock on the data folder proves no other one runs). With `blame`
     /// (that process died of a fault), the leases expire as stalled ones do: claim() counts them

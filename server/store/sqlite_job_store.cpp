@@ -298,7 +298,7 @@ std::map<JobState, int64_t> SqliteJobStore::countByState() {
 }
 
 std::optional<Job> SqliteJobStore::claim(const std::string& owner, double now, double leaseSeconds,
-                                         int maxStalledLeases) {
+                                         int maxStalledLeases, int maxAttempts) {
     std::lock_guard lock(mutex_);
     Transaction tx(db_);
     // Expired leases: a cancelled request ends the job; a job that stalled too often fails; the
@@ -322,6 +322,14 @@ std::optional<Job> SqliteJobStore::claim(const std::string& owner, double now, d
               "UPDATE jobs SET state = 'queued', lease_owner = '', stalled_leases = "
               "stalled_leases + 1 WHERE state = 'running' AND lease_expires <= ?1")
         .bind(1, now)
+        .run();
+    Statement(
+        db_,
+        "UPDATE jobs SET state = 'failed', finished_at = ?1, error = 'started ' || attempt || "
+        "' times without finishing (its renderer stopped each time); it is not retried "
+        "again' WHERE state = 'queued' AND attempt >= ?2")
+        .bind(1, now)
+        .bind(2, maxAttempts)
         .run();
     Statement pick(db_, "SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1");
     if (!pick.step()) {

@@ -26,7 +26,7 @@ public:
     JobPage list(std::optional<JobState> state, int limit, std::optional<int64_t> before) override;
     std::map<JobState, int64_t> countByState() override;
     std::optional<Job> claim(const std::string& owner, double now, double leaseSeconds,
-                             int maxStalledLeases) override;
+                             int maxStalledLeases, int maxAttempts) override;
     int expireLeasesNotOwnedBy(const std::string& owner, bool blame) override;
     LeaseStatus heartbeat(const std::string& id, int attempt, double now,
                           double leaseSeconds) override;

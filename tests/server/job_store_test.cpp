@@ -44,7 +44,7 @@ constexpr double kLease = 10;
 TEST_F(JobStoreTest, ClaimsInSubmissionOrderWithALease) {
     submit("a");
     submit("b");
-    std::optional<Job> first = store_->claim("w1", 1000, kLease, 3);
+    std::optional<Job> first = store_->claim("w1", 1000, kLease, 3, 100);
     ASSERT_TRUE(first);
     EXPECT_EQ(first->id, "a");
     EXPECT_EQ(first->state, JobState::Running);
@@ -53,15 +53,15 @@ TEST_F(JobStoreTest, ClaimsInSubmissionOrderWithALease) {
     EXPECT_DOUBLE_EQ(first->leaseExpires, 1000 + kLease);
     EXPECT_DOUBLE_EQ(first->startedAt, 1000);
     EXPECT_EQ(first->scene, (Json{{"camera", {{"width", 4}}}}));
-    EXPECT_EQ(store_->claim("w2", 1000, kLease, 3)->id, "b");
-    EXPECT_FALSE(store_->claim("w3", 1000, kLease, 3));
+    EXPECT_EQ(store_->claim("w2", 1000, kLease, 3, 100)->id, "b");
+    EXPECT_FALSE(store_->claim("w3", 1000, kLease, 3, 100));
 }
 
 TEST_F(JobStoreTest, WritesOfAStaleAttemptChangeNothing) {
     submit("a");
-    Job one = *store_->claim("w1", 1000, kLease, 3);
+    Job one = *store_->claim("w1", 1000, kLease, 3, 100);
     // The lease expires; another worker takes the job over.
-    Job two = *store_->claim("w2", 1000 + kLease + 1, kLease, 3);
+    Job two = *store_->claim("w2", 1000 + kLease + 1, kLease, 3, 100);
     EXPECT_EQ(two.id, "a");
     EXPECT_EQ(two.attempt, 2);
     EXPECT_EQ(store_->heartbeat("a", one.attempt, 1012, kLease), LeaseStatus::Lost);
@@ -82,44 +82,57 @@ TEST_F(JobStoreTest, WritesOfAStaleAttemptChangeNothing) {
 
 TEST_F(JobStoreTest, HeartbeatsKeepTheLease) {
     submit("a");
-    Job one = *store_->claim("w1", 1000, kLease, 3);
+    Job one = *store_->claim("w1", 1000, kLease, 3, 100);
     for (double t = 1005; t < 1100; t += 5)
         ASSERT_EQ(store_->heartbeat("a", one.attempt, t, kLease), LeaseStatus::Held);
-    EXPECT_FALSE(store_->claim("w2", 1100, kLease, 3));
+    EXPECT_FALSE(store_->claim("w2", 1100, kLease, 3, 100));
 }
 
 TEST_F(JobStoreTest, JobsThatStallTooOftenFailWithTheReason) {
     submit("a");
     double t = 1000;
     for (int i = 0; i < 2; ++i) {
-        Job j = *store_->claim("w", t, kLease, 3);
+        Job j = *store_->claim("w", t, kLease, 3, 100);
         EXPECT_EQ(j.attempt, i + 1);
         t += kLease + 1;
     }
     // A finished pass resets the count: stalls must be in a row.
-    Job third = *store_->claim("w", t, kLease, 3);
+    Job third = *store_->claim("w", t, kLease, 3, 100);
     EXPECT_EQ(third.stalledLeases, 2);
     ASSERT_TRUE(store_->recordPass("a", third.attempt, 0.1, 1, 10, 0.2, 5, Json{{"pass", 1}}));
     t += kLease + 1;
     for (int i = 0; i < 2; ++i) {
-        ASSERT_TRUE(store_->claim("w", t, kLease, 3));
+        ASSERT_TRUE(store_->claim("w", t, kLease, 3, 100));
         t += kLease + 1;
     }
-    EXPECT_FALSE(store_->claim("w", t, kLease, 3));
+    EXPECT_FALSE(store_->claim("w", t, kLease, 3, 100));
     Job failed = *store_->get("a");
     EXPECT_EQ(failed.state, JobState::Failed);
     EXPECT_EQ(failed.stalledLeases, 3);
     EXPECT_NE(failed.error.find("3 times in a row"), std::string::npos) << failed.error;
 }
 
+TEST_F(JobStoreTest, JobsStartedTooOftenFail) {
+    // Killed from outside after every start (no fault, no stall counted): the attempt cap ends it.
+    submit("a");
+    for (const char* owner : {"w0", "w1", "w2", "w3"}) {
+        ASSERT_TRUE(store_->claim(owner, 1000, kLease, 3, 4)) << owner;
+        store_->expireLeasesNotOwnedBy("someone else", false);
+    }
+    EXPECT_FALSE(store_->claim("w", 1000, kLease, 3, 4));
+    Job failed = *store_->get("a");
+    EXPECT_EQ(failed.state, JobState::Failed);
+    EXPECT_NE(failed.error.find("started 4 times"), std::string::npos) << failed.error;
+}
+
 TEST_F(JobStoreTest, StartUpExpiresOtherOwnersLeases) {
     submit("a");
     submit("b");
-    store_->claim("old", 1000, kLease, 3);
-    store_->claim("new", 1000, kLease, 3);
+    store_->claim("old", 1000, kLease, 3, 100);
+    store_->claim("new", 1000, kLease, 3, 100);
     EXPECT_EQ(store_->expireLeasesNotOwnedBy("new", true), 1);
     // "a" is claimable at once, long before its lease would have expired; "b" is still held.
-    std::optional<Job> again = store_->claim("new", 1001, kLease, 3);
+    std::optional<Job> again = store_->claim("new", 1001, kLease, 3, 100);
     ASSERT_TRUE(again);
     EXPECT_EQ(again->id, "a");
     EXPECT_EQ(again->attempt, 2);
@@ -129,14 +142,14 @@ TEST_F(JobStoreTest, StartUpExpiresOtherOwnersLeases) {
 TEST_F(JobStoreTest, StartUpAfterAKillRequeuesWithoutCountingAStall) {
     submit("a");
     submit("b");
-    Job a = *store_->claim("old", 1000, kLease, 3);
-    store_->claim("old", 1000, kLease, 3);
+    Job a = *store_->claim("old", 1000, kLease, 3, 100);
+    store_->claim("old", 1000, kLease, 3, 100);
     store_->cancel("b", 1000);
     // Killed again and again before a pass: never failed for it.
     for (int i = 0; i < 5; ++i) {
         EXPECT_EQ(store_->expireLeasesNotOwnedBy("new" + std::to_string(i), false), i == 0 ? 2 : 1);
         EXPECT_EQ(store_->get("a")->state, JobState::Queued);
-        a = *store_->claim("new" + std::to_string(i), 1001 + i, kLease, 3);
+        a = *store_->claim("new" + std::to_string(i), 1001 + i, kLease, 3, 100);
         EXPECT_EQ(a.id, "a");
         EXPECT_EQ(a.attempt, i + 2);
         EXPECT_EQ(a.stalledLeases, 0);
@@ -149,7 +162,7 @@ TEST_F(JobStoreTest, CancelStopsQueuedJobsAtOnceAndAsksRunningOnes) {
     submit("queued");
     submit("running");
     store_->cancel("queued", 1);  // before any claim
-    Job running = *store_->claim("w", 1000, kLease, 3);
+    Job running = *store_->claim("w", 1000, kLease, 3, 100);
     EXPECT_EQ(running.id, "running");
     EXPECT_EQ(store_->get("queued")->state, JobState::Cancelled);
 
@@ -165,9 +178,9 @@ TEST_F(JobStoreTest, CancelStopsQueuedJobsAtOnceAndAsksRunningOnes) {
 
     // A running job whose renderer vanished after a cancel request ends cancelled, not requeued.
     submit("orphan");
-    Job orphan = *store_->claim("w", 2000, kLease, 3);
+    Job orphan = *store_->claim("w", 2000, kLease, 3, 100);
     store_->cancel("orphan", 2001);
-    EXPECT_FALSE(store_->claim("w", 2000 + kLease + 1, kLease, 3));
+    EXPECT_FALSE(store_->claim("w", 2000 + kLease + 1, kLease, 3, 100));
     EXPECT_EQ(store_->get("orphan")->state, JobState::Cancelled);
     (void)orphan;
 }
@@ -195,7 +208,7 @@ TEST_F(JobStoreTest, IdempotencyKeysKeepTheFirstResponse) {
 
 TEST_F(JobStoreTest, ListsNewestFirstInPagesAndByState) {
     for (int i = 0; i < 7; ++i) submit(std::string(1, 'j').append(std::to_string(i)));
-    store_->claim("w", 1000, kLease, 3);  // j0 runs
+    store_->claim("w", 1000, kLease, 3, 100);  // j0 runs
     std::vector<std::string> seen;
     std::optional<int64_t> cursor;
     do {
@@ -217,7 +230,7 @@ TEST_F(JobStoreTest, ListsNewestFirstInPagesAndByState) {
 
 TEST_F(JobStoreTest, SurvivesReopening) {
     submit("a");
-    Job one = *store_->claim("w", 1000, kLease, 3);
+    Job one = *store_->claim("w", 1000, kLease, 3, 100);
     ASSERT_TRUE(store_->recordPass("a", one.attempt, 0.25, 1, 4, 0.3, 3, Json{{"pass", 1}}));
     store_ = std::make_unique<SqliteJobStore>(dir_ / "jobs.sqlite3");
     Job back = *store_->get("a");
