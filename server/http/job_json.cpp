@@ -31,8 +31,9 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
     double progress = job.progress, error = job.relativeError, eta = job.etaSeconds;
     int done = job.passesDone, total = job.passesTotal;
     if (live && job.state == JobState::Running) {
+        // passes_done stays the store's: the passes that are durable, which never go back (a
+        // pass the render has finished may still be lost to a crash before it is recorded).
         progress = live->fraction;
-        done = live->passesDone;
         total = live->passesTotal;
         error = live->relativeError;
         eta = live->etaSeconds;

@@ -107,6 +107,23 @@ void WorkerPool::renderJob(Job job) {
         RenderSettings settings = parseSettings(job.settings);
         std::unique_ptr<Film> checkpoint =
             files_.readCheckpoint(id, scene->camera.width(), scene->camera.height());
+        const int sppPerPass = settings.resolvedSppPerPass();
+        const int passesTotal = (settings.spp + sppPerPass - 1) / sppPerPass;
+        // Clients see the passes in the store. A checkpoint is written before its pass is
+        // recorded, so a kill between the two leaves the checkpoint ahead: record it first, so
+        // that passes_done never goes back.
+        auto record = [&](const Film& film, double seconds, double eta) {
+            double passError = film.relativeError();
+            Json point{
+                {"pass", film.passes()},
+                {"seconds", seconds},
+                {"relative_error", std::isfinite(passError) ? Json(passError) : Json(nullptr)}};
+            return store_.recordPass(id, attempt, double(film.passes()) / passesTotal,
+                                     film.passes(), passesTotal, passError, eta, point);
+        };
+        if (checkpoint && checkpoint->passes() > job.passesDone &&
+            !record(*checkpoint, priorSeconds, -1))
+            lost = cancel = true;
 
         auto started = std::chrono::steady_clock::now();
         auto lastPreview = started - std::chrono::hours(1);
@@ -133,23 +150,18 @@ void WorkerPool::renderJob(Job job) {
         callbacks.onPass = [&](const Film& film) {
             if (lost) return;
             files_.writeCheckpoint(id, film);
-            // The preview at most twice a second (and the final image is written anyway).
-            if (std::chrono::steady_clock::now() - lastPreview > std::chrono::milliseconds(500)) {
+            // The preview at most twice a second (the final image is written anyway), and before
+            // the pass is recorded: a client told of a pass finds its preview.
+            if (film.passes() == 1 ||
+                std::chrono::steady_clock::now() - lastPreview > std::chrono::milliseconds(500)) {
                 files_.writeImage(id, "preview.png", film, settings.exposure);
                 lastPreview = std::chrono::steady_clock::now();
             }
             std::optional<LiveProgress> live = events_.live(id);
-            double passError = film.relativeError();
-            int total = live ? live->passesTotal : 0;
-            double fraction = total > 0 ? double(film.passes()) / total : 0;
-            double eta = live ? live->etaSeconds : -1;
-            Json point{
-                {"pass", film.passes()},
-                {"seconds", priorSeconds + seconds()},
-                {"relative_error", std::isfinite(passError) ? Json(passError) : Json(nullptr)}};
-            if (!store_.recordPass(id, attempt, fraction, film.passes(), total, passError, eta,
-                                   point))
+            if (!record(film, priorSeconds + seconds(), live ? live->etaSeconds : -1)) {
                 lost = cancel = true;
+                return;
+            }
             counters_.passes++;
             events_.notify();
         };

@@ -200,12 +200,10 @@ class Observer:
                     self.problems.append(f"{jid}: was {prev['state']} (finished {prev['finished_at']}), "
                                          f"then {now['state']} (finished {now['finished_at']})")
                 if now["passes"] < prev["passes"]:
-                    # A pass is shown live once rendered, and is durable once checkpointed: a kill
-                    # between the two may take back that one pass, never more.
-                    if prev["passes"] - now["passes"] > 1:
-                        self.problems.append(f"{jid}: passes_done went from {prev['passes']} to {now['passes']}")
-                    else:
-                        self.pass_regressions += 1
+                    # Passes shown are those in the store, and a resumed job records its
+                    # checkpoint's passes before it renders more: progress never goes back.
+                    self.problems.append(f"{jid}: passes_done went from {prev['passes']} to {now['passes']}")
+                    self.pass_regressions += 1
             self.seen[jid] = now
             self.max_attempt[jid] = max(self.max_attempt.get(jid, 0), now["attempt"])
 
@@ -468,7 +466,7 @@ def main():
         leftovers = sum(1 for _, _, files in os.walk(data) for f in files if ".tmp" in f)
         log(f"{kills} kills ({kills_on_running} with a job running), {server.starts} server starts, "
             f"{interrupted}/{len(rows)} jobs rendered in more than one attempt, "
-            f"{observer.pass_regressions} one-pass progress take-backs seen, "
+            f"{observer.pass_regressions} progress take-backs seen, "
             f"{leftovers} temporary files left in job folders")
         if leftovers:
             failures.append(f"{leftovers} temporary files left in job folders: a restarted server "
