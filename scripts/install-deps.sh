@@ -14,6 +14,8 @@ packages=(
     # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a venv;
     # wrk and curl: bench/status_latency.sh)
     libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv wrk curl
+    # Browser tests of the web page (tests/web/run.sh: playwright-core from npm drives Chromium)
+    chromium nodejs npm
 )
 
 sudo_cmd=()
@@ -21,6 +23,8 @@ if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
 
 missing=()
 for p in "${packages[@]}"; do
+    # A Node.js from NodeSource bundles npm and conflicts with Debian's npm package.
+    if [ "$p" = npm ] && command -v npm >/dev/null; then continue; fi
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -gt 0 ]; then

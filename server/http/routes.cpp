@@ -255,6 +255,20 @@ void sendImage(ApiContext& api, const httplib::Request& req, httplib::Response& 
     res.set_content(bytes, name.ends_with(".exr") ? "image/x-exr" : "image/png");
 }
 
+// An example scene's file as written (its layout and key order, for an editor): the JSON that a job
+// naming the scene renders.
+void sendExampleScene(ApiContext& api, const httplib::Request& req, httplib::Response& res) {
+    const std::string name = req.matches[1];
+    const std::vector<std::string> names = exampleSceneNames(api.config.scenesDir);
+    if (std::find(names.begin(), names.end(), name) == names.end())
+        return sendProblem(res, 404, "no example scene \"" + name + "\"");
+    std::ifstream in(api.config.scenesDir / (name + ".json"), std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!Json::accept(text))
+        return sendProblem(res, 500, "the example scene \"" + name + "\" is not valid JSON");
+    res.set_content(text, kJson);
+}
+
 }  // namespace
 
 void registerRoutes(httplib::Server& http, ApiContext& api) {
@@ -331,6 +345,9 @@ void registerRoutes(httplib::Server& http, ApiContext& api) {
     });
     http.Get("/api/scenes", [&api](const httplib::Request&, httplib::Response& res) {
         sendJson(res, 200, {{"scenes", exampleSceneNames(api.config.scenesDir)}});
+    });
+    http.Get("/api/scenes/([^/]+)", [&api](const httplib::Request& req, httplib::Response& res) {
+        sendExampleScene(api, req, res);
     });
     http.Post("/api/jobs", [&api](const httplib::Request& req, httplib::Response& res) {
         submitJob(api, req, res);

@@ -1,7 +1,8 @@
 """Integration tests of the HTTP API (README.md, "The render service"; DESIGN.md, "Service") against
-the real `caustic serve`: the read-only resources (/healthz, /api/openapi.json, /api/scenes,
-/api/settings, /metrics), submitting by example name and as a scene object, Server-Sent Events to
-the end, the images, validation errors, and listing with paging and the state filter.
+the real `caustic serve`: the read-only resources (/healthz, /api/openapi.json, /api/scenes and
+/api/scenes/{name}, /api/settings, /metrics), submitting by example name and as a scene object,
+Server-Sent Events to the end, the images, validation errors, and listing with paging and the state
+filter.
 test_job_control.py has cancel, delete, the preview, Idempotency-Key and the 404s."""
 
 import json
@@ -37,6 +38,16 @@ def test_scenes(server):
                       if n.endswith(".json"))
     assert scenes == expected
     assert {"cornell-box", "cornell-spheres", "bunny"} <= set(scenes)
+
+
+def test_example_scene_by_name(server):
+    # The file as written (the web page's scene editor starts from it); unknown names are 404.
+    r = server.get("/api/scenes/cornell-box")
+    assert r.status_code == 200 and r.headers["Content-Type"] == "application/json"
+    with open(os.path.join(ROOT, "scenes", "cornell-box.json"), encoding="utf-8") as f:
+        assert r.text == f.read()
+    assert_problem(server.get("/api/scenes/no-such-scene"), 404, detail="no-such-scene")
+    assert_problem(server.get("/api/scenes/..%2Fserver.log"), 404)
 
 
 def test_settings(server):

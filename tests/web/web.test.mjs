@@ -1,0 +1,410 @@
+// Browser tests of the web page (web/), against the real `caustic serve` that tests/web/run.sh
+// starts: Debian's Chromium, headless, driven by playwright-core. Every test opens its own page
+// and fails on any console error or uncaught exception it did not expect. Screenshots go to
+// $CAUSTIC_WEB_SCREENSHOTS; the page weight of a first load is printed.
+import assert from 'node:assert/strict';
+import {after, before, test} from 'node:test';
+
+import {api, BASE, closeBrowser, itemOf, launch, MAX_SPP, NARROW, openPage, RENDER_TIMEOUT, shot,
+  smallScene, submit, watchErrors, WIDE} from './browser.mjs';
+
+let browser;
+const shared = {};  // jobs made by one test for later ones
+
+before(async () => { browser = await launch(); });
+after(closeBrowser);
+
+test('page weight on first load (an empty server, no cache)', async () => {
+  const context = await browser.newContext({viewport: WIDE});
+  const page = await context.newPage();
+  const check = watchErrors(page);
+  // Every response's transferred bytes (headers and body), from the browser's network log.
+  const cdp = await context.newCDPSession(page);
+  await cdp.send('Network.enable');
+  const sizes = new Map(), paths = new Map();
+  cdp.on('Network.responseReceived', e => paths.set(e.requestId, new URL(e.response.url).pathname));
+  cdp.on('Network.loadingFinished', e => sizes.set(e.requestId, e.encodedDataLength));
+  await page.goto(`${BASE}/`, {waitUntil: 'networkidle'});
+  await page.waitForSelector('body[data-ready=true]');
+  const total = [...sizes.values()].reduce((a, b) => a + b, 0);
+  const statics = [...sizes].filter(([id]) => !(paths.get(id) || '').startsWith('/api/'))
+    .reduce((a, [, n]) => a + n, 0);
+  console.log(`page weight: ${total} bytes transferred in ${sizes.size} responses (static files ` +
+    `${statics} bytes): ${[...sizes].map(([id, n]) => `${paths.get(id)} ${n}`).join(', ')}`);
+  assert.ok(total < 120_000, `page weight ${total} bytes`);
+  await context.close();
+  check();
+});
+
+test('the settings form follows /api/settings: only the integrator\'s options, API ranges and defaults', async () => {
+  const schema = (await api('/api/settings')).body;
+  const {page, close} = await openPage();
+  assert.equal(await page.locator('#settings fieldset').first().locator('select').getAttribute('id'), 's-integrator',
+    'the integrator comes first');
+  for (const integrator of schema.integrator.enum) {
+    await page.selectOption('#s-integrator', integrator);
+    const fields = await page.$$eval('[data-setting]', els => els.map(el => {
+      const input = el.querySelector('input, select');
+      return {name: el.dataset.setting, shown: !el.hidden && !el.closest('[hidden]'), tag: input.tagName,
+        type: input.type, min: input.getAttribute('min'), max: input.getAttribute('max'),
+        step: input.getAttribute('step'), value: input.type === 'checkbox' ? input.checked : input.value,
+        disabled: input.disabled, options: input.tagName === 'SELECT' ? [...input.options].map(o => o.value) : null,
+        label: input.labels.length > 0};
+    }));
+    assert.deepEqual(fields.map(f => f.name).sort(), Object.keys(schema).sort(), 'one field per setting');
+    for (const f of fields) {
+      const spec = schema[f.name];
+      const used = spec.integrators.length === 0 || spec.integrators.includes(integrator);
+      assert.equal(f.shown, used, `${integrator}: ${f.name} shown`);
+      assert.equal(f.disabled, !used, `${integrator}: ${f.name} disabled when hidden`);
+      assert.ok(f.label, `${f.name} has a label`);
+      if (spec.type === 'boolean') {
+        assert.equal(f.type, 'checkbox', f.name);
+        assert.equal(f.value, spec.default, `${f.name} default`);
+      } else if (spec.enum) {
+        assert.equal(f.tag, 'SELECT', f.name);
+        assert.deepEqual(f.options, spec.enum, `${f.name} options`);
+        if (f.name !== 'integrator') assert.equal(f.value, spec.default, `${f.name} default`);
+      } else {
+        assert.equal(f.type, 'number', f.name);
+        assert.equal(Number(f.min), spec.minimum, `${f.name} min`);
+        assert.equal(Number(f.max), spec.maximum, `${f.name} max`);
+        assert.equal(f.step, spec.type === 'integer' ? '1' : 'any', `${f.name} step`);
+        // The example scene (cornell-box) sets spp; the rest start at the API's default.
+        if (f.name !== 'spp') assert.equal(Number(f.value), spec.default, `${f.name} default`);
+      }
+    }
+  }
+  const spp = await page.inputValue('#s-spp');
+  assert.equal(spp, '64', 'the example scene\'s own settings fill the form');
+  await page.selectOption('#s-integrator', 'photon');
+  await page.$eval('[data-group=options]', el => el.scrollIntoView());
+  await shot(page, 'settings-photon');
+  await close();
+});
+
+test('submit a job: live progress, the preview, then the final image with its stats', async () => {
+  const {page, close} = await openPage();
+  await page.selectOption('#scene-name', 'cornell-box');
+  await smallScene(page, 64);
+  await page.selectOption('#s-integrator', 'path');
+  await page.fill('#s-spp', '400');
+  await page.fill('#s-spp_per_pass', '1');
+  const {status, body: job} = await submit(page);
+  assert.equal(status, 202);
+  shared.first = job.id;
+  // Sample the queue item and the viewer every 40 ms until the job has succeeded.
+  await page.waitForSelector(itemOf(job.id));
+  await page.evaluate(sel => {
+    window.samples = [];
+    const tick = () => {
+      const li = document.querySelector(sel);
+      const canvas = document.querySelector('#viewer-canvas');
+      window.samples.push({value: li.querySelector('progress').value, state: li.dataset.state,
+        meta: li.querySelector('.job-meta').textContent, kind: canvas.dataset.kind || '',
+        width: canvas.width});
+      if (li.dataset.state !== 'succeeded') setTimeout(tick, 40);
+    };
+    tick();
+  }, itemOf(job.id));
+  await page.waitForSelector(`${itemOf(job.id)}[data-state=running]`, {timeout: RENDER_TIMEOUT});
+  await shot(page, 'rendering');
+  await page.waitForSelector(`${itemOf(job.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
+  const samples = await page.evaluate(() => window.samples);
+  const running = samples.filter(s => s.state === 'running');
+  const partial = [...new Set(running.map(s => s.value).filter(v => v > 0 && v < 1))];
+  assert.ok(partial.length >= 2, `progress seen at ${partial.length} values between 0 and 1`);
+  for (let i = 1; i < samples.length; i++)
+    assert.ok(samples[i].value >= samples[i - 1].value, 'progress never goes back');
+  assert.ok(running.some(s => /pass ([1-9]\d*)\/400/.test(s.meta) && !/pass 400\//.test(s.meta)),
+    'passes shown while running');
+  assert.ok(running.some(s => /ETA/.test(s.meta)), 'ETA shown while running');
+  assert.ok(samples.some(s => s.kind === 'preview' && s.width === 64), 'the live preview was shown');
+  console.log(`progress values seen while running: ${partial.length}`);
+
+  // The result: image.png at its natural size, downloads, stats.
+  await page.waitForSelector('#viewer-canvas[data-kind=image]');
+  const canvas = await page.$eval('#viewer-canvas', c => ({w: c.width, h: c.height, src: c.dataset.src}));
+  assert.deepEqual(canvas, {w: 64, h: 64, src: `/api/jobs/${job.id}/image.png`});
+  for (const [text, type] of [['PNG', 'image/png'], ['EXR', 'image/x-exr']]) {
+    const href = await page.getAttribute(`#downloads a:text("${text}")`, 'href');
+    const res = await fetch(BASE + href);
+    assert.equal(res.status, 200, href);
+    assert.equal(res.headers.get('content-type'), type);
+    assert.ok(await page.getAttribute(`#downloads a:text("${text}")`, 'download'));
+  }
+  const stats = await page.$$eval('#stats dd', dds => Object.fromEntries(dds.map(d => [d.dataset.stat, d.textContent])));
+  for (const key of ['time', 'rays_per_second', 'relative_error', 'passes', 'spp', 'memory'])
+    assert.ok(stats[key] && stats[key] !== '—', `stat ${key}: ${stats[key]}`);
+  assert.match(stats.passes, /^400 /);
+  assert.equal(stats.spp, '400');
+  assert.match(stats.rays_per_second, /rays\/s/);
+  assert.equal(stats.photons, undefined, 'no photon count for a path tracer');
+  await shot(page, 'result');
+
+  // Exposure: +1 EV doubles linear values (decode sRGB, scale, encode).
+  const pixels = () => page.$eval('#viewer-canvas', c => Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data));
+  const base = await pixels();
+  await page.focus('#exposure');
+  for (let i = 0; i < 10; i++) await page.keyboard.press('ArrowRight');
+  assert.equal(await page.textContent('#exposure-out'), '+1.0 EV');
+  const bright = await pixels();
+  const lin = v => (v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055) ** 2.4);
+  const srgb = v => (v <= 0.0031308 ? 12.92 * v : 1.055 * v ** (1 / 2.4) - 0.055);
+  let worst = 0;
+  for (let i = 0; i < base.length; i++) {
+    if (i % 4 === 3) continue;
+    const expected = Math.round(255 * srgb(Math.min(1, 2 * lin(base[i] / 255))));
+    worst = Math.max(worst, Math.abs(bright[i] - expected));
+  }
+  assert.ok(worst <= 1, `exposure off by ${worst} codes`);
+  assert.ok(bright.some((v, i) => v !== base[i]), 'exposure changed the image');
+
+  // Zoom (buttons, wheel, keys) and pan (drag).
+  const scale = () => page.$eval('#viewer-stage', s => Number(s.dataset.scale));
+  const transform = () => page.$eval('#viewer-stage .content', c => c.style.transform);
+  const fit = await scale();
+  await page.click('#viewer [data-zoom=in]');
+  assert.ok(Math.abs(await scale() - fit * 1.25) < 1e-3, 'zoom in button');
+  const box = await page.locator('#viewer-stage').boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.wheel(0, -120);
+  await page.waitForFunction(s => Number(document.querySelector('#viewer-stage').dataset.scale) > s, fit * 1.25 + 1e-3);
+  const before = await transform();
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width / 2 + 60, box.y + box.height / 2 + 30, {steps: 4});
+  await page.mouse.up();
+  assert.notEqual(await transform(), before, 'dragging pans');
+  await page.focus('#viewer-stage');
+  await page.keyboard.press('0');
+  assert.ok(Math.abs(await scale() - fit) < 1e-3, '0 fits again');
+  await page.keyboard.press('1');
+  assert.equal(await scale(), 1, '1 shows 1:1');
+  await close();
+});
+
+test('compare two finished renders: split view, difference and the error chart', async () => {
+  assert.ok(shared.first, 'needs the job of the previous test');
+  const {page, close} = await openPage();
+  // A second job, a photon mapper (its options shown once chosen), from the page.
+  await smallScene(page, 64);
+  await page.selectOption('#s-integrator', 'photon');
+  assert.ok(await page.isVisible('#s-photons'));
+  assert.ok(!(await page.isVisible('#s-light_sampling')));
+  await page.fill('#s-photons', '5000');
+  await page.fill('#s-spp', '16');
+  const {status, body: job} = await submit(page);
+  assert.equal(status, 202);
+  shared.second = job.id;
+  await page.waitForSelector(`${itemOf(job.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
+  await page.waitForSelector('#viewer-canvas[data-kind=image]');
+  const photons = await page.textContent('#stats dd[data-stat=photons]');
+  assert.match(photons, /80\.0 k photon paths/, 'photon integrators show their photon count');
+
+  await page.click('#tab-compare');
+  await page.selectOption('#compare-a', shared.first);
+  await page.selectOption('#compare-b', shared.second);
+  await page.waitForFunction(() => document.querySelector('#compare-b-canvas').width === 64 &&
+    document.querySelector('#chart svg[data-series="2"]'));
+  assert.equal(await page.$eval('#compare-a-canvas', c => c.width), 64);
+  assert.ok(await page.isVisible('#compare-a-canvas'));
+  assert.ok(await page.isVisible('#compare-b-canvas'));
+  assert.equal(await page.$eval('#compare-b-canvas', c => c.style.clipPath), 'inset(0px 0px 0px 50%)');
+  // The split slider, by keyboard.
+  await page.focus('#split');
+  for (let i = 0; i < 25; i++) await page.keyboard.press('ArrowLeft');
+  assert.equal(await page.$eval('#compare-b-canvas', c => c.style.clipPath), 'inset(0px 0px 0px 25%)');
+  assert.equal(await page.$eval('#divider', d => d.style.left), '16px');
+  // The chart: two series, log-log, points from each job's convergence log.
+  const chart = await page.$eval('#chart svg', svg => ({
+    series: [...svg.querySelectorAll('polyline.series')].map(p => p.getAttribute('points').split(' ').length),
+    legend: [...document.querySelectorAll('#chart .legend li')].map(li => li.textContent)}));
+  const expected = [];
+  for (const id of [shared.first, shared.second]) {
+    const j = (await api(`/api/jobs/${id}`)).body;
+    expected.push(j.convergence.filter(p => p.relative_error > 0 && p.seconds > 0).length);
+  }
+  assert.deepEqual(chart.series, expected, 'one polyline per job with every estimate');
+  assert.equal(chart.legend.length, 2);
+  assert.ok(await page.isVisible('#chart svg'));
+  await shot(page, 'compare-split');
+  // The difference view.
+  await page.check('input[name=compare-mode][value=diff]');
+  await page.waitForSelector('#compare-diff:not([hidden])');
+  assert.ok(!(await page.isVisible('#compare-b-canvas')));
+  const diff = await page.$eval('#compare-diff', c => {
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let nonzero = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i] || d[i + 1] || d[i + 2]) nonzero++;
+    return {w: c.width, h: c.height, nonzero};
+  });
+  assert.equal(diff.w, 64);
+  assert.ok(diff.nonzero > 100, `the difference has ${diff.nonzero} non-black pixels`);
+  assert.match(await page.textContent('#compare-note'), /mean absolute difference/);
+  await shot(page, 'compare-difference');
+  await close();
+});
+
+test('validation errors are shown where their pointer says', async () => {
+  const schema = (await api('/api/settings')).body;
+  const {page, close} = await openPage();
+  await smallScene(page, 64);
+  await page.selectOption('#s-integrator', 'path');
+
+  // A setting over the server's limit: the message beside its input, which gets focus.
+  await page.fill('#s-spp', String(MAX_SPP + 1));
+  const {status, body, request} = await submit(page);
+  assert.equal(status, 422);
+  assert.equal(body.pointer, '/settings/spp');
+  const sent = JSON.parse(request.postData()).settings;
+  const shown = Object.keys(schema).filter(n => schema[n].integrators.length === 0 || schema[n].integrators.includes('path'));
+  assert.deepEqual(Object.keys(sent).sort(), shown.sort(), 'only the shown settings are sent');
+  await page.waitForSelector('#s-spp-error:not(:empty)');
+  assert.match(await page.textContent('#s-spp-error'), new RegExp(`at most ${MAX_SPP}`));
+  assert.equal(await page.getAttribute('#s-spp', 'aria-invalid'), 'true');
+  assert.equal(await page.evaluate(() => document.activeElement.id), 's-spp');
+  assert.ok((await page.getAttribute('#s-spp', 'aria-describedby')).includes('s-spp-error'));
+  await shot(page, 'error-setting');
+  // Typing clears it.
+  await page.fill('#s-spp', '4');
+  assert.equal(await page.textContent('#s-spp-error'), '');
+
+  // Out of the API's range: the browser's own check, at the field, with no request.
+  let posted = false;
+  page.on('request', r => { if (r.method() === 'POST') posted = true; });
+  await page.fill('#s-max_depth', '0');
+  await page.click('#submit-button');
+  await page.waitForSelector('#s-max_depth-error:not(:empty)');
+  assert.ok(!posted, 'nothing sent with an invalid field');
+  await page.fill('#s-max_depth', '5');
+
+  // A scene path: listed under the editor with its path, the value selected in the editor.
+  const scene = JSON.parse(await page.inputValue('#scene-json'));
+  scene.camera.width = 99999;
+  await page.fill('#scene-json', JSON.stringify(scene, null, 2));
+  const second = await submit(page);
+  assert.equal(second.status, 422);
+  assert.equal(second.body.pointer, '/scene/camera/width');
+  await page.waitForSelector('#scene-errors li');
+  assert.equal(await page.textContent('#scene-errors li code'), '/scene/camera/width');
+  assert.match(await page.textContent('#scene-errors li'), /must be in \[1, \d+\], got 99999/);
+  const selected = await page.$eval('#scene-json', t => t.value.slice(t.selectionStart, t.selectionEnd));
+  assert.equal(selected, '99999');
+  assert.equal(await page.getAttribute('#scene-json', 'aria-invalid'), 'true');
+  await shot(page, 'error-scene');
+
+  // Not JSON at all: said under the editor, nothing sent.
+  posted = false;
+  await page.fill('#scene-json', '{"camera": ');
+  await page.click('#submit-button');
+  await page.waitForSelector('#scene-errors li');
+  assert.match(await page.textContent('#scene-errors li'), /not valid JSON/);
+  assert.ok(!posted);
+  // The browser logs the two 422 responses; nothing else.
+  const errors = await close([/status of 422/]);
+  assert.equal(errors.length, 2, errors.join('\n'));
+});
+
+test('queue: a running job shows its ETA, can be cancelled and deleted', async () => {
+  const {page, close} = await openPage();
+  await page.selectOption('#scene-name', 'cornell-box');
+  await page.selectOption('#s-integrator', 'path');
+  await page.fill('#s-spp', String(MAX_SPP));
+  await page.fill('#s-spp_per_pass', '1');
+  await page.fill('#s-time_limit', '60');
+  const {status, body: job} = await submit(page);
+  assert.equal(status, 202);
+  assert.equal((await api(`/api/jobs/${job.id}`)).body.scene_name, 'cornell-box',
+    'an unchanged example is sent by name');
+  const item = itemOf(job.id);
+  await page.waitForSelector(`${item}[data-state=running]`, {timeout: RENDER_TIMEOUT});
+  await page.waitForFunction(sel => /ETA \d/.test(document.querySelector(`${sel} .job-meta`).textContent), item);
+  await page.click(`${item} button:text("Cancel")`);
+  await page.waitForSelector(`${item}[data-state=cancelled]`, {timeout: 60_000});
+  assert.ok(!(await page.isVisible(`${item} button:text("Cancel")`)), 'no Cancel once cancelled');
+  await shot(page, 'queue-cancelled');
+  await page.click(`${item} button:text("Delete")`);
+  await page.waitForSelector(item, {state: 'detached'});
+  assert.equal((await api(`/api/jobs/${job.id}`)).status, 404);
+  assert.notEqual(await page.evaluate(() => location.hash), `#job=${job.id}`);
+  await close();
+});
+
+test('layout at 1280x800 and 400x800: no horizontal overflow; columns, then stacked', async () => {
+  const hash = shared.first ? `#job=${shared.first}` : '';
+  const measure = page => page.evaluate(() => {
+    const r = id => document.getElementById(id).getBoundingClientRect();
+    const wide = [...document.querySelectorAll('body *')].filter(el => {
+      if (el.closest('.stage, dialog, .visually-hidden, .skip')) return false;
+      const b = el.getBoundingClientRect();
+      return b.width > 0 && b.right > document.documentElement.clientWidth + 1;
+    }).map(el => el.id || el.className || el.tagName);
+    return {scroll: document.documentElement.scrollWidth, client: document.documentElement.clientWidth,
+      height: document.documentElement.scrollHeight, wide, submit: r('submit'), view: r('view'), queue: r('queue')};
+  });
+  for (const [viewport, name] of [[WIDE, 'layout-1280x800'], [NARROW, 'layout-400x800']]) {
+    const {page, close} = await openPage(viewport, hash);
+    if (hash) await page.waitForSelector('#viewer-canvas[data-kind=image]');
+    for (const tab of ['viewer', 'compare']) {
+      await page.click(`#tab-${tab}`);
+      if (tab === 'compare' && shared.second) await page.waitForSelector('#chart svg[data-series="2"]');
+      const m = await measure(page);
+      const what = `${name}, ${tab}`;
+      assert.ok(m.scroll <= m.client, `${what}: page ${m.scroll} px wide in ${m.client}`);
+      assert.deepEqual(m.wide, [], `${what}: elements past the right edge`);
+      if (viewport === WIDE) {
+        assert.ok(m.submit.right <= m.view.left && m.view.right <= m.queue.left, 'three columns');
+        assert.ok(Math.abs(m.submit.top - m.queue.top) < 2);
+        assert.ok(m.height <= WIDE.height, `the page fits the window (${m.height} px): its panels scroll`);
+      } else {
+        assert.ok(m.submit.bottom <= m.view.top && m.view.bottom <= m.queue.top, 'stacked');
+      }
+      await shot(page, tab === 'viewer' ? name : `${name}-compare`, viewport === NARROW);
+    }
+    await close();
+  }
+});
+
+test('keyboard: labels, tab order, focus styles, Escape', async () => {
+  const {page, close} = await openPage(WIDE, shared.first ? `#job=${shared.first}` : '');
+  // Every control has an accessible name; clickable things are buttons or links.
+  const unnamed = await page.$$eval('input, select, textarea, button, a[href]', els => els
+    .filter(el => !el.closest('[hidden]') && !(el.labels?.length) && !el.getAttribute('aria-label') &&
+      !el.textContent.trim() && !el.getAttribute('aria-labelledby'))
+    .map(el => el.outerHTML.slice(0, 80)));
+  assert.deepEqual(unnamed, []);
+  // Tab walks the form, then the results, then the queue, in that order.
+  const order = [];
+  for (let i = 0; i < 120; i++) {
+    await page.keyboard.press('Tab');
+    const f = await page.evaluate(() => {
+      const el = document.activeElement;
+      return {id: el.id, region: el.closest('#submit, #view, #queue')?.id || '', outline: getComputedStyle(el).outlineStyle};
+    });
+    order.push(f);
+    if (f.region === 'queue') break;
+  }
+  const ids = order.map(f => f.id);
+  for (const id of ['scene-name', 'scene-json', 's-integrator', 's-spp', 'submit-button', 'tab-viewer', 'viewer-stage', 'exposure'])
+    assert.ok(ids.includes(id), `Tab reaches #${id}`);
+  const regions = order.map(f => f.region).filter(Boolean);
+  const firstOf = r => regions.indexOf(r), lastOf = r => regions.lastIndexOf(r);
+  assert.ok(lastOf('submit') < firstOf('view') && lastOf('view') < firstOf('queue'), regions.join(' '));
+  assert.ok(order.every(f => f.outline !== 'none'), 'a visible focus outline on every stop');
+  // Escape closes the help dialog, then leaves the enlarged view.
+  await page.click('#help-open');
+  assert.ok(await page.isVisible('#help'));
+  await page.keyboard.press('Escape');
+  assert.ok(!(await page.isVisible('#help')));
+  await page.click('#expand');
+  assert.equal(await page.getAttribute('#expand', 'aria-pressed'), 'true');
+  await shot(page, 'enlarged');
+  await page.keyboard.press('Escape');
+  assert.equal(await page.getAttribute('#expand', 'aria-pressed'), 'false');
+  // Tabs follow the arrow keys.
+  await page.focus('#tab-viewer');
+  await page.keyboard.press('ArrowRight');
+  assert.equal(await page.evaluate(() => document.activeElement.id), 'tab-compare');
+  assert.ok(await page.isVisible('#compare'));
+  await close();
+});

@@ -1,0 +1,178 @@
+// The render settings form, generated from GET /api/settings: the integrator first, then only the
+// options it reads (a setting's `integrators`; empty = every integrator), the stopping rule, the
+// accelerator, and the rest. Number inputs carry the API's minimum, maximum and step, enums are
+// selects, booleans checkboxes, and every field starts at the API's default.
+import {h} from './format.js';
+
+// Where a setting goes; a setting the API adds later lands in "More settings" (or, when only some
+// integrators read it, in the integrator's options), so the form always shows all of them.
+const STOP = ['spp', 'time_limit', 'target_error', 'spp_per_pass'];
+const ORDER = ['max_depth', 'rr_depth', 'light_sampling', 'mis', 'photons', 'caustic_photons', 'k',
+  'radius', 'kernel', 'alpha', 'final_gather', 'photon_lookup'];
+const GENERAL_OPTIONS = ['max_depth'];  // read by every integrator, but an integrator's option
+
+const byOrder = list => (a, b) => {
+  const ia = list.indexOf(a), ib = list.indexOf(b);
+  return (ia < 0 ? 1e9 : ia) - (ib < 0 ? 1e9 : ib) || a.localeCompare(b);
+};
+
+export class SettingsForm {
+  /** @param schema GET /api/settings: {name: {type, default, minimum, maximum, enum, unit,
+   *  description, integrators}} */
+  constructor(container, schema) {
+    this.schema = schema;
+    this.container = container;
+    this.fields = new Map();  // name -> {wrap, input, error, spec}
+    const names = Object.keys(schema);
+    const specific = n => schema[n].integrators.length > 0 || GENERAL_OPTIONS.includes(n);
+    const options = names.filter(n => n !== 'integrator' && specific(n)).sort(byOrder(ORDER));
+    const stop = STOP.filter(n => n in schema);
+    const accel = names.filter(n => n === 'accelerator');
+    const rest = names.filter(n => n !== 'integrator' && !options.includes(n) && !stop.includes(n) &&
+      !accel.includes(n)).sort();
+
+    container.replaceChildren(
+      this.group('Integrator', ['integrator']),
+      this.optionsGroup = this.group('Integrator options', options, 'options'),
+      this.group('Stopping rule', stop, 'stop',
+        'The render stops at whichever limit it reaches first; 0 turns a limit off.'),
+      this.group('Accelerator', accel),
+      this.more(rest));
+    this.fields.get('integrator').input.addEventListener('change', () => this.showIntegrator());
+    this.showIntegrator();
+  }
+
+  group(title, names, id, note) {
+    return h('fieldset', {class: 'group', 'data-group': id},
+      h('legend', {text: title}),
+      note && h('p', {class: 'hint', text: note}),
+      ...names.map(n => this.field(n)));
+  }
+
+  more(names) {
+    const details = h('details', {class: 'group', 'data-group': 'more'},
+      h('summary', {text: 'More settings'}), ...names.map(n => this.field(n)));
+    details.addEventListener('keydown', e => {
+      if (e.key === 'Escape' && details.open) {
+        details.open = false;
+        details.querySelector('summary').focus();
+        e.stopPropagation();
+      }
+    });
+    return details;
+  }
+
+  field(name) {
+    const spec = this.schema[name];
+    const id = `s-${name}`;
+    const error = h('p', {class: 'field-error', id: `${id}-error`, 'aria-live': 'polite'});
+    const desc = h('p', {class: 'desc', id: `${id}-desc`, text: describe(spec)});
+    const describedBy = `${id}-desc ${id}-error`;
+    let input;
+    if (spec.type === 'boolean') {
+      input = h('input', {type: 'checkbox', id, name, 'aria-describedby': describedBy});
+    } else if (spec.enum) {
+      input = h('select', {id, name, 'aria-describedby': describedBy},
+        ...spec.enum.map(v => h('option', {value: v, text: v})));
+    } else if (spec.type === 'integer' || spec.type === 'number') {
+      input = h('input', {type: 'number', id, name, inputmode: spec.type === 'integer' ? 'numeric' : 'decimal',
+        step: spec.type === 'integer' ? '1' : 'any', 'aria-describedby': describedBy});
+      if (spec.minimum !== undefined) input.min = String(spec.minimum);
+      if (spec.maximum !== undefined) input.max = String(spec.maximum);
+    } else {
+      input = h('input', {type: 'text', id, name, 'aria-describedby': describedBy});
+    }
+    const unit = spec.unit ? h('span', {class: 'unit', text: ` (${spec.unit})`}) : null;
+    const label = h('label', {for: id}, ...(spec.type === 'boolean' ? [input, name] : [name, unit]));
+    const wrap = h('div', {class: spec.type === 'boolean' ? 'field check' : 'field', 'data-setting': name},
+      label, spec.type === 'boolean' ? null : input, error, desc);
+    input.addEventListener('input', () => this.clearError(name));
+    this.fields.set(name, {wrap, input, error, spec});
+    this.set(name, spec.default);
+    return wrap;
+  }
+
+  get integrator() { return this.fields.get('integrator').input.value; }
+
+  /** Shows only the chosen integrator's options (hidden ones are disabled: never sent). */
+  showIntegrator() {
+    const integrator = this.integrator;
+    for (const [, f] of this.fields) {
+      const used = f.spec.integrators.length === 0 || f.spec.integrators.includes(integrator);
+      f.wrap.hidden = !used;
+      f.input.disabled = !used;
+    }
+    for (const group of this.container.querySelectorAll('fieldset[data-group]'))
+      group.hidden = !group.querySelector('.field:not([hidden])');
+  }
+
+  set(name, value) {
+    const f = this.fields.get(name);
+    if (!f) return false;
+    if (f.spec.type === 'boolean') f.input.checked = Boolean(value);
+    else f.input.value = String(value);
+    return true;
+  }
+
+  /** API defaults, then `overrides` (a scene's own settings) over them. */
+  reset(overrides = {}) {
+    for (const [name, f] of this.fields) this.set(name, f.spec.default);
+    for (const [name, value] of Object.entries(overrides || {})) this.set(name, value);
+    this.clearErrors();
+    this.showIntegrator();
+  }
+
+  /** The visible settings as JSON, or null after marking the fields the browser finds invalid. */
+  values() {
+    const out = {};
+    let ok = true;
+    for (const [name, f] of this.fields) {
+      if (f.input.disabled) continue;
+      if (f.spec.type === 'boolean') out[name] = f.input.checked;
+      else if (f.spec.type === 'integer' || f.spec.type === 'number') {
+        if (f.input.value.trim() === '' || !f.input.checkValidity()) {
+          this.showError(name, f.input.validationMessage || 'Enter a number.');
+          ok = false;
+        } else out[name] = Number(f.input.value);
+      } else out[name] = f.input.value;
+    }
+    return ok ? out : null;
+  }
+
+  /** Shows a message beside a setting's input; false if no visible field has that name. */
+  showError(name, message) {
+    const f = this.fields.get(name);
+    if (!f || f.wrap.hidden) return false;
+    f.error.textContent = message;
+    f.input.setAttribute('aria-invalid', 'true');
+    const details = f.wrap.closest('details');
+    if (details) details.open = true;
+    return true;
+  }
+
+  focusFirstError() {
+    for (const [, f] of this.fields) {
+      if (!f.error.textContent) continue;
+      f.input.focus({preventScroll: true});
+      f.wrap.scrollIntoView({block: 'center'});
+      return;
+    }
+  }
+
+  clearError(name) {
+    const f = this.fields.get(name);
+    f.error.textContent = '';
+    f.input.removeAttribute('aria-invalid');
+  }
+
+  clearErrors() { for (const name of this.fields.keys()) this.clearError(name); }
+}
+
+function describe(spec) {
+  const parts = [spec.description];
+  const fmt = v => (Math.abs(v) >= 1e6 && Number.isInteger(v) ? v.toExponential().replace('e+', 'e') : String(v));
+  if (spec.minimum !== undefined && spec.maximum !== undefined)
+    parts.push(`Range ${fmt(spec.minimum)} – ${fmt(spec.maximum)}.`);
+  if (spec.type !== 'boolean') parts.push(`Default ${typeof spec.default === 'number' ? +spec.default.toPrecision(6) : spec.default}.`);
+  return parts.join(' ');
+}
