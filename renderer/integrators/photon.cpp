@@ -50,23 +50,26 @@ uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
 }
 
 size_t PhotonIntegrator::estimatedPeakBytes() const {
-    auto storedPerPath = [&](bool causticOnly, PhotonPathMask mask) {
+    // Stored photons per path of a pilot tracing: all of them, and the caustic ones.
+    auto storedPerPath = [&](bool causticOnly) {
         PhotonTracingOptions o = tracingOptions(0, causticOnly);
         o.photons = std::min<uint64_t>(o.photons, kPilotPaths);
         PhotonTracing pilot = tracePhotons(scene_, accel_, o);
-        size_t n = size_t(std::count_if(pilot.photons.begin(), pilot.photons.end(),
-                                        [&](const Photon& p) { return mask & maskOf(p.path); }));
-        return o.photons > 0 ? double(n) / double(o.photons) : 0.0;
+        auto caustics =
+            std::count_if(pilot.photons.begin(), pilot.photons.end(),
+                          [](const Photon& p) { return p.path == PhotonPath::Caustic; });
+        double paths = std::max(1.0, double(o.photons));
+        return std::pair{double(pilot.photons.size()) / paths, double(caustics) / paths};
     };
-    double global = double(options_.photons) * storedPerPath(false, kAllPhotonPaths);
-    double caustic =
-        options_.causticPhotons > 0
-            ? double(options_.causticPhotons) * storedPerPath(true, kAllPhotonPaths)
-            : double(options_.photons) * storedPerPath(false, maskOf(PhotonPath::Caustic));
+    const auto [all, caustic] = storedPerPath(false);
+    double stored = double(options_.photons) * all;
+    stored += options_.causticPhotons > 0
+                  ? double(options_.causticPhotons) * storedPerPath(true).first
+                  : double(options_.photons) * caustic;
     // Tracing holds each photon twice while it joins the chunks (80 bytes); a map then holds 40
     // bytes a photon, 16 in the tree and 12 of positions while it builds. A 10% margin covers the
     // pilot's sampling error.
-    return size_t(1.1 * (80.0 * global + 80.0 * caustic));
+    return size_t(1.1 * 80.0 * stored);
 }
 
 void PhotonIntegrator::checkMemory(size_t budgetBytes) const {

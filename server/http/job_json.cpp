@@ -29,7 +29,7 @@ Json number(double v) {
 Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
     const std::string self = "/api/jobs/" + job.id;
     double progress = job.progress, error = job.relativeError, eta = job.etaSeconds;
-    int done = job.passesDone, total = job.passesTotal;
+    int total = job.passesTotal;
     if (live && job.state == JobState::Running) {
         // passes_done stays the store's: the passes that are durable, which never go back (a
         // pass the render has finished may still be lost to a crash before it is recorded).
@@ -54,7 +54,7 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
                 {"attempt", job.attempt},
                 {"cancel_requested", job.cancelRequested},
                 {"progress", number(progress)},
-                {"passes_done", done},
+                {"passes_done", job.passesDone},
                 {"passes_total", total},
                 {"relative_error", number(error)},
                 {"eta_seconds", eta >= 0 ? number(eta) : Json(nullptr)},

@@ -14,8 +14,7 @@ namespace caustic::server {
 
 struct LiveProgress {
     double fraction = 0;
-    int passesDone = 0, passesTotal = 0;
-    double elapsedSeconds = 0;
+    int passesTotal = 0;
     double relativeError = 0;
     double etaSeconds = -1;
 };

@@ -135,8 +135,7 @@ void WorkerPool::renderJob(Job job) {
         callbacks.cancel = &cancel;
         callbacks.resume = checkpoint.get();
         callbacks.onProgress = [&](const RenderProgress& p) {
-            LiveProgress live{p.fraction,       p.passesDone,    p.passesTotal,
-                              p.elapsedSeconds, p.relativeError, -1};
+            LiveProgress live{p.fraction, p.passesTotal, p.relativeError, -1};
             // The spp budget at the rate so far, or the time limit if that comes first (a target
             // error may stop it sooner still; that cannot be foreseen).
             if (p.fraction > 0 && p.elapsedSeconds > 0)
@@ -152,8 +151,7 @@ void WorkerPool::renderJob(Job job) {
             files_.writeCheckpoint(id, film);
             // The preview at most twice a second (the final image is written anyway), and before
             // the pass is recorded: a client told of a pass finds its preview.
-            if (film.passes() == 1 ||
-                std::chrono::steady_clock::now() - lastPreview > std::chrono::milliseconds(500)) {
+            if (std::chrono::steady_clock::now() - lastPreview > std::chrono::milliseconds(500)) {
                 files_.writeImage(id, "preview.png", film, settings.exposure);
                 lastPreview = std::chrono::steady_clock::now();
             }
