@@ -1,92 +1,116 @@
 #include "film/film.h"
 
-#include "core/check.h"
+#include <cstring>
+#include <stdexcept>
 
 namespace caustic {
 
 Film::Film(int width, int height)
     : width_(width),
       height_(height),
-      sum_(size_t(width) * size_t(height) * 3, 0.0),
-      sumSq_(size_t(width) * size_t(height) * 3, 0.0) {}
+      sum_(size_t(width) * size_t(height) * 3, 0),
+      sumSq_(size_t(width) * size_t(height) * 3) {}
 
-void Film::addPass(const std::vector<Color>& pass) {
-    CAUSTIC_CHECK_EQ(pass.size() * 3, sum_.size());
+void Film::addPass(int index, const std::vector<Color>& pass, uint64_t dropped) {
+    if (pass.size() * 3 != sum_.size())
+        throw std::invalid_argument("a pass of " + std::to_string(pass.size()) +
+                                    " pixels for a film of " + std::to_string(sum_.size() / 3));
+    passSet_.insert(index, index + 1);
     for (size_t p = 0; p < pass.size(); ++p) {
         for (int c = 0; c < 3; ++c) {
-            double v = pass[p][c];
-            sum_[3 * p + c] += v;
-            sumSq_[3 * p + c] += v * v;
+            float v = pass[p][c];
+            if (exact::outOfRange(v)) ++clamped_;
+            exact::Int128 q = exact::quantize(v);
+            sum_[3 * p + size_t(c)] += q;
+            exact::addSquare(sumSq_[3 * p + size_t(c)], q);
         }
     }
-    ++passes_;
+    dropped_ += dropped;
 }
 
 void Film::merge(const Film& other) {
-    CAUSTIC_CHECK(other.width_ == width_ && other.height_ == height_);
+    if (other.width_ != width_ || other.height_ != height_)
+        throw std::invalid_argument(
+            "cannot merge a " + std::to_string(other.width_) + "x" + std::to_string(other.height_) +
+            " film into a " + std::to_string(width_) + "x" + std::to_string(height_) + " one");
+    passSet_.insert(other.passSet_);  // throws before anything changes
     for (size_t i = 0; i < sum_.size(); ++i) {
         sum_[i] += other.sum_[i];
-        sumSq_[i] += other.sumSq_[i];
+        sumSq_[i].add(other.sumSq_[i]);
     }
-    passes_ += other.passes_;
     dropped_ += other.dropped_;
+    clamped_ += other.clamped_;
 }
 
 double Film::variance(size_t i) const {
-    if (passes_ < 2) return 0.0;
-    double n = passes_;
-    double mean = sum_[i] / n;
+    const int n = passes();
+    if (n < 2) return 0.0;
+    double mean = exact::sumToDouble(sum_[i]) / n;
     // Unbiased sample variance; clamped since cancellation can make it slightly negative.
-    return std::max(0.0, (sumSq_[i] - n * mean * mean) / (n - 1.0));
+    return std::max(0.0, (exact::squaresToDouble(sumSq_[i]) - n * mean * mean) / (n - 1.0));
 }
 
 Color Film::mean(int x, int y) const {
     size_t i = 3 * (size_t(y) * size_t(width_) + size_t(x));
-    if (passes_ == 0) return Color(0.0f);
-    return Color(float(sum_[i] / passes_), float(sum_[i + 1] / passes_),
-                 float(sum_[i + 2] / passes_));
+    Color m(0.0f);
+    if (passes() == 0) return m;
+    for (int c = 0; c < 3; ++c) m[c] = float(exact::sumToDouble(sum_[i + size_t(c)]) / passes());
+    return m;
 }
 
 Color Film::standardError(int x, int y) const {
     size_t i = 3 * (size_t(y) * size_t(width_) + size_t(x));
     Color se;
-    for (int c = 0; c < 3; ++c) se[c] = float(std::sqrt(variance(i + c) / std::max(passes_, 1)));
+    for (int c = 0; c < 3; ++c)
+        se[c] = float(std::sqrt(variance(i + size_t(c)) / std::max(passes(), 1)));
     return se;
 }
 
 std::vector<float> Film::meanRgb() const {
     std::vector<float> out(sum_.size(), 0.0f);
-    if (passes_ == 0) return out;
-    for (size_t i = 0; i < sum_.size(); ++i) out[i] = float(sum_[i] / passes_);
+    if (passes() == 0) return out;
+    for (size_t i = 0; i < sum_.size(); ++i) out[i] = float(exact::sumToDouble(sum_[i]) / passes());
     return out;
 }
 
 std::vector<float> Film::standardErrorRgb() const {
     std::vector<float> out(sum_.size(), 0.0f);
     for (size_t i = 0; i < sum_.size(); ++i)
-        out[i] = float(std::sqrt(variance(i) / std::max(passes_, 1)));
+        out[i] = float(std::sqrt(variance(i) / std::max(passes(), 1)));
     return out;
 }
 
 double Film::relativeError() const {
-    if (passes_ < 2) return std::nan("");
+    const int n = passes();
+    if (n < 2) return std::nan("");
     double err2 = 0.0, mean2 = 0.0;
     for (size_t i = 0; i < sum_.size(); ++i) {
-        double m = sum_[i] / passes_;
-        err2 += variance(i) / passes_;
+        double m = exact::sumToDouble(sum_[i]) / n;
+        err2 += variance(i) / n;
         mean2 += m * m;
     }
     return mean2 > 0.0 ? std::sqrt(err2 / mean2) : 0.0;
 }
 
-void Film::restore(std::vector<double> sum, std::vector<double> sumSq, int passes,
-                   uint64_t dropped) {
-    CAUSTIC_CHECK_EQ(sum.size(), sum_.size());
-    CAUSTIC_CHECK_EQ(sumSq.size(), sumSq_.size());
-    sum_ = std::move(sum);
-    sumSq_ = std::move(sumSq);
-    passes_ = passes;
-    dropped_ = dropped;
+std::vector<double> Film::sums() const {
+    std::vector<double> out(sum_.size());
+    for (size_t i = 0; i < sum_.size(); ++i) out[i] = exact::sumToDouble(sum_[i]);
+    return out;
+}
+
+std::vector<double> Film::sumsOfSquares() const {
+    std::vector<double> out(sumSq_.size());
+    for (size_t i = 0; i < sumSq_.size(); ++i) out[i] = exact::squaresToDouble(sumSq_[i]);
+    return out;
+}
+
+bool Film::operator==(const Film& o) const {
+    return width_ == o.width_ && height_ == o.height_ && passSet_ == o.passSet_ &&
+           dropped_ == o.dropped_ && clamped_ == o.clamped_ && sum_ == o.sum_ && sumSq_ == o.sumSq_;
+}
+
+size_t Film::bytesFor(int width, int height) {
+    return size_t(width) * size_t(height) * 3 * (sizeof(exact::Int128) + sizeof(exact::Wide192));
 }
 
 }  // namespace caustic

@@ -1,12 +1,19 @@
-// The pass-based film: per pixel, the sum and sum of squares (in double) of independent pass
-// estimates. From it come the image (the mean), the per-pixel standard error, the whole-image error
-// estimate, checkpoints, and merging of passes rendered elsewhere (add the sums).
+// The pass-based film: per pixel, the sum and sum of squares of independent pass estimates, in
+// exact fixed point (film/exact_sum.h), and the set of passes it holds. From it come the image
+// (the mean), the per-pixel standard error, the whole-image error estimate, checkpoints, and
+// merging of passes rendered elsewhere: films holding disjoint pass ranges, merged in any order,
+// hold the very bits of one film that added every pass.
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/math.h"
+#include "film/exact_sum.h"
+#include "film/pass_set.h"
 
 namespace caustic {
 
@@ -14,17 +21,23 @@ class Film {
 public:
     Film(int width, int height);
 
-    /// Adds one pass: one estimate of every pixel, row-major, top row first. Not thread-safe.
-    void addPass(const std::vector<Color>& pass);
-    /// Adds another film's passes (same size): the result is as if its passes had been added here.
+    /// Adds pass `index`: one estimate of every pixel, row-major, top row first, with the samples
+    /// it dropped. Throws std::invalid_argument if the film holds that pass. Not thread-safe.
+    void addPass(int index, const std::vector<Color>& pass, uint64_t dropped = 0);
+    /// Adds the pass after the highest one held.
+    void addPass(const std::vector<Color>& pass) { addPass(passSet_.end(), pass); }
+    /// Adds another film's passes (same size; throws std::invalid_argument, changing nothing, if
+    /// a pass is held by both or the sizes differ). Exact: any order of merges gives one result.
     void merge(const Film& other);
-    /// Counts samples dropped for being NaN or infinite.
-    void addDropped(uint64_t count) { dropped_ += count; }
 
     int width() const { return width_; }
     int height() const { return height_; }
-    int passes() const { return passes_; }
+    int passes() const { return passSet_.count(); }
+    const PassSet& passSet() const { return passSet_; }
+    /// Samples dropped for being NaN or infinite.
     uint64_t droppedSamples() const { return dropped_; }
+    /// Pass values clamped to the fixed-point range (|v| >= 2^35; film/exact_sum.h).
+    uint64_t clampedValues() const { return clamped_; }
 
     /// Mean of the pass estimates at a pixel; zero before the first pass.
     Color mean(int x, int y) const;
@@ -39,21 +52,30 @@ public:
     /// over all pixels and channels. NaN with fewer than two passes.
     double relativeError() const;
 
-    /// Raw accumulators (per pixel and channel, interleaved), for checkpoints.
-    const std::vector<double>& sums() const { return sum_; }
-    const std::vector<double>& sumsOfSquares() const { return sumSq_; }
-    /// Restores accumulators saved from a film of the same size.
-    void restore(std::vector<double> sum, std::vector<double> sumSq, int passes, uint64_t dropped);
-    size_t memoryBytes() const { return (sum_.capacity() + sumSq_.capacity()) * sizeof(double); }
+    /// The sums and sums of squares per pixel and channel (interleaved), rounded to double.
+    std::vector<double> sums() const;
+    std::vector<double> sumsOfSquares() const;
+    /// Same size, passes, counters and accumulators, bit for bit.
+    bool operator==(const Film& other) const;
+
+    /// The whole film as bytes (a checkpoint, or a pass range sent elsewhere), and back: null for
+    /// bytes that are not a film of width x height (torn, foreign or of an older format).
+    std::string toBytes() const;
+    static std::unique_ptr<Film> fromBytes(std::string_view bytes, int width, int height);
+
+    size_t memoryBytes() const { return bytesFor(width_, height_); }
+    /// Bytes of a film of this size.
+    static size_t bytesFor(int width, int height);
 
 private:
     double variance(size_t i) const;
 
     int width_, height_;
-    int passes_ = 0;
+    PassSet passSet_;
     uint64_t dropped_ = 0;
-    std::vector<double> sum_;
-    std::vector<double> sumSq_;
+    uint64_t clamped_ = 0;
+    std::vector<exact::Int128> sum_;
+    std::vector<exact::Wide192> sumSq_;
 };
 
 }  // namespace caustic

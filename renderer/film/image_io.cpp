@@ -35,6 +35,10 @@ void writeImage(const fs::path& file, const RgbImage& image, double exposure) {
     if (ext == ".exr") {
         OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
         spec.attribute("compression", "zip");
+        // OpenImageIO stamps an EXR with the time of writing (capDate) unless DateTime is given:
+        // an empty one keeps the file a function of its pixels, so that equal renders give equal
+        // files wherever they were written.
+        spec.attribute("DateTime", "");
         ok = out->open(tmp.string(), spec) &&
              out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
     } else {

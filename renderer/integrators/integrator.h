@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "accel/accelerator.h"
+#include "core/interrupt.h"
 #include "core/rng.h"
 #include "lights/light.h"
 #include "scene/scene.h"
@@ -22,6 +23,15 @@ struct RenderSettings;
 struct SampleContext {
     Rng rng{0};
     uint64_t rays = 0;
+    /// The render's stop request (may be null); the sample's result is discarded once it is set.
+    const Interrupt* interrupt = nullptr;
+    uint32_t polls = 0;
+
+    /// Whether to abandon the sample: polled by loops whose length the settings control, it
+    /// reads the interrupt every Interrupt::kPollPeriod calls.
+    bool interrupted() {
+        return interrupt && ++polls % Interrupt::kPollPeriod == 0 && interrupt->requested();
+    }
 };
 
 class Integrator {
@@ -31,7 +41,8 @@ public:
 
     /// Prepares pass `pass` before any Li of that pass (photon tracing, for example); returns the
     /// rays it traced. Called from one thread (it may run its own parallel loops); deterministic
-    /// in (seed, pass) so that passes can run on different workers.
+    /// in (seed, pass) so that passes can run on different workers. When interrupt() asks to
+    /// stop, it returns early and the pass must be abandoned.
     virtual uint64_t beginPass(uint32_t /*pass*/) { return 0; }
     /// One sample of the radiance arriving at the camera along `ray` (world space, unit direction),
     /// in W/(m^2 sr) per linear RGB channel. Thread-safe.
@@ -41,6 +52,11 @@ public:
     /// Throws InputError naming the setting at fault when the integrator's own structures would
     /// need more than `budgetBytes` at their peak; called before the first pass.
     virtual void checkMemory(size_t /*budgetBytes*/) const {}
+
+    /// The stop request that beginPass, checkMemory and the caller's samples poll (may be null;
+    /// it must outlive the integrator's use of it).
+    void setInterrupt(const Interrupt* interrupt) { interrupt_ = interrupt; }
+    const Interrupt* interrupt() const { return interrupt_; }
 
 protected:
     /// Closest hit along the ray, counting it.
@@ -64,6 +80,7 @@ protected:
 
     const Scene& scene_;
     const Accelerator& accel_;
+    const Interrupt* interrupt_ = nullptr;
 };
 
 /// The integrator names `createIntegrator` accepts.

@@ -27,6 +27,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
     LightSampleContext from(cameraRay.o);
 
     for (int depth = 0;; ++depth) {
+        if (ctx.interrupted()) break;
         std::optional<Hit> hit = intersect(ray, ctx);
         if (!hit) {
             // The background is not sampled as a light: BSDF sampling finds it with weight 1.

@@ -20,6 +20,7 @@ PhotonTracingOptions PhotonIntegrator::tracingOptions(uint32_t pass, bool causti
     o.pass = pass;
     o.threads = options_.threads;
     o.causticOnly = causticOnly;
+    o.interrupt = interrupt_;
     return o;
 }
 
@@ -32,10 +33,12 @@ uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
     caustic_.reset();
     PhotonTracing traced = tracePhotons(scene_, accel_, tracingOptions(pass, false));
     uint64_t rays = traced.rays;
+    if (traced.interrupted) return rays;  // the caller abandons the pass
     std::vector<Photon> caustics;
     if (options_.causticPhotons > 0) {
         PhotonTracing c = tracePhotons(scene_, accel_, tracingOptions(pass, true));
         rays += c.rays;
+        if (c.interrupted) return rays;
         caustics = std::move(c.photons);
     } else {
         caustics.reserve(
@@ -92,6 +95,7 @@ std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Co
                                                                     SampleContext& ctx) const {
     escaped = false;
     for (int depth = 0; depth <= options_.maxDepth; ++depth) {
+        if (ctx.interrupted()) return std::nullopt;
         std::optional<Hit> hit = intersect(ray, ctx);
         if (!hit) {
             escaped = true;

@@ -1,6 +1,7 @@
 // Whitted ray tracing (Whitted 1980; pbrt-v3 src/integrators/whitted.cpp): direct light at diffuse
 // hits, and recursion along every specular branch (mirror reflection; dielectric reflection and
-// refraction weighted by Fresnel) up to max_depth bounces.
+// refraction weighted by Fresnel) up to max_depth bounces. The branches are followed from an
+// explicit stack, not by recursion, so that a large max_depth cannot overflow a thread's stack.
 #pragma once
 
 #include "integrators/integrator.h"
@@ -11,10 +12,9 @@ class WhittedIntegrator final : public Integrator {
 public:
     WhittedIntegrator(const Scene& scene, const Accelerator& accel, int maxDepth)
         : Integrator(scene, accel), maxDepth_(maxDepth) {}
-    Color Li(const Ray& ray, SampleContext& ctx) const override { return trace(ray, 0, ctx); }
+    Color Li(const Ray& ray, SampleContext& ctx) const override;
 
 private:
-    Color trace(const Ray& ray, int depth, SampleContext& ctx) const;
     int maxDepth_;
 };
 

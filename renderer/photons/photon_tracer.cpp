@@ -19,7 +19,14 @@ struct Chunk {
     std::vector<Photon> photons;
     DVec3 emittedPower{0.0};
     uint64_t rays = 0;
+    uint32_t polls = 0;  // bounces since the interrupt was last read
 };
+
+// Whether to stop: the interrupt is read every Interrupt::kPollPeriod bounces.
+bool interrupted(const PhotonTracingOptions& options, Chunk& chunk) {
+    return options.interrupt && ++chunk.polls % Interrupt::kPollPeriod == 0 &&
+           options.interrupt->requested();
+}
 
 void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracingOptions& options,
                uint64_t index, Chunk& out) {
@@ -36,6 +43,7 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
     Ray ray = le->ray;
     bool specularOnly = true;
     for (int bounces = 0; bounces < options.maxDepth; ++bounces) {
+        if (interrupted(options, out)) return;
         ++out.rays;
         std::optional<Hit> hit = accel.intersect(ray, kInfinity);
         if (!hit) return;
@@ -80,9 +88,11 @@ PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
     const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (uint64_t c = 0; c < chunks; ++c) {
+        if (options.interrupt && options.interrupt->requested()) continue;
         uint64_t end = std::min(options.photons, (c + 1) * kChunk);
         for (uint64_t i = c * kChunk; i < end; ++i) tracePath(scene, accel, options, i, done[c]);
     }
+    result.interrupted = options.interrupt && options.interrupt->requested();
     size_t total = 0;
     for (const Chunk& c : done) total += c.photons.size();
     result.photons.reserve(total);

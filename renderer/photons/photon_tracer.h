@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "accel/accelerator.h"
+#include "core/interrupt.h"
 #include "scene/scene.h"
 
 namespace caustic {
@@ -33,6 +34,9 @@ struct PhotonTracingOptions {
     /// can carry no caustic): a cheap, separate caustic map. Its random numbers are independent of
     /// the full tracing's with the same seed and pass.
     bool causticOnly = false;
+    /// Polled per path and every few hundred bounces; when it asks to stop, tracing returns
+    /// early with `interrupted` set (may be null).
+    const Interrupt* interrupt = nullptr;
 };
 
 struct PhotonTracing {
@@ -40,6 +44,7 @@ struct PhotonTracing {
     uint64_t emitted = 0;         ///< Paths emitted (every one, stored or not).
     DVec3 emittedPower{0.0};      ///< Sum of the flux the paths left the lights with.
     uint64_t rays = 0;
+    bool interrupted = false;  ///< Stopped early by options.interrupt: the photons are partial.
 };
 
 /// Traces `options.photons` photon paths from the scene's lights (none when nothing emits).

@@ -5,15 +5,11 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "jobs/pass_recorder.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
 namespace caustic::server {
-
-double unixNow() {
-    return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-        .count();
-}
 
 WorkerPool::WorkerPool(const ServerConfig& config, JobStore& store, const JobFiles& files,
                        JobEvents& events, RenderCounters& counters, std::string owner)
@@ -60,146 +56,83 @@ void WorkerPool::run() {
             continue;
         }
         events_.notify();
-        renderJob(std::move(*job));
+        renderJob(*job);
         events_.notify();
     }
 }
 
-void WorkerPool::renderJob(Job job) {
-    const std::string id = job.id;
-    const int attempt = job.attempt;
-    std::atomic<bool> cancel{false};
-    std::atomic<bool> lost{false};
-    std::atomic<bool> done{false};
-
-    // Heartbeats: renew the lease a few times per lease period; learn of cancellation.
-    std::thread heartbeat([&] {
-        const auto period = std::chrono::duration<double>(std::min(1.0, config_.leaseSeconds / 4));
-        auto last = std::chrono::steady_clock::now();
-        while (!done) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(50));
-            if (stopping_) cancel = true;
-            if (std::chrono::steady_clock::now() - last < period) continue;
-            last = std::chrono::steady_clock::now();
-            LeaseStatus s = LeaseStatus::Held;
-            try {
-                s = store_.heartbeat(id, attempt, unixNow(), config_.leaseSeconds);
-            } catch (const std::exception&) {
-                continue;  // the store is busy: try again at the next beat
-            }
-            if (s == LeaseStatus::Lost) lost = true;
-            if (s != LeaseStatus::Held) cancel = true;
-        }
-    });
-
-    // Earlier attempts' time, so that the convergence log's seconds run on across restarts.
-    double priorSeconds = 0;
-    if (!job.convergence.empty() && job.convergence.back().contains("seconds"))
-        priorSeconds = job.convergence.back()["seconds"].get<double>();
-
-    JobState outcome = JobState::Failed;
-    std::string error;
-    Json stats;
+void WorkerPool::renderJob(const Job& job) {
+    Outcome outcome;
+    bool lost = false;
+    {
+        LeaseKeeper lease(store_, config_, job.id, job.attempt, stopping_);
+        outcome = renderLeased(job, lease);
+        lost = lease.lost;
+    }  // the lease is no longer renewed from here
+    events_.clearLive(job.id);
+    // A render stopped by the server's own shutdown or a lost lease is not the job's outcome: it
+    // stays running until its lease expires, then goes back to the queue.
+    if (lost || (stopping_ && outcome.state == JobState::Cancelled)) {
+        // Deleted while it rendered: its last checkpoint or preview may have been written after
+        // the files were removed.
+        if (lost && !store_.get(job.id)) files_.remove(job.id);
+        return;
+    }
     try {
+        if (store_.finish(job.id, job.attempt, outcome.state, outcome.stats, outcome.error,
+                          unixNow()) &&
+            outcome.state == JobState::Succeeded)
+            files_.removeCheckpoint(job.id);
+    } catch (const std::exception& e) {
+        std::cerr << "caustic serve: finishing job " << job.id << ": " << e.what() << "\n";
+    }
+}
+
+WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease) {
+    Outcome outcome;
+    try {
+        // The scene, settings and session are made once per attempt.
         SceneOptions options;
         options.assetsDir = config_.assetsDir;
         std::unique_ptr<Scene> scene = loadScene(job.scene, options);
         RenderSettings settings = parseSettings(job.settings);
-        std::unique_ptr<Film> checkpoint =
-            files_.readCheckpoint(id, scene->camera.width(), scene->camera.height());
-        const int sppPerPass = settings.resolvedSppPerPass();
-        const int passesTotal = (settings.spp + sppPerPass - 1) / sppPerPass;
-        // Clients see the passes in the store. A checkpoint is written before its pass is
-        // recorded, so a kill between the two leaves the checkpoint ahead: record it first, so
-        // that passes_done never goes back.
-        auto record = [&](const Film& film, double seconds, double eta) {
-            double passError = film.relativeError();
-            Json point{
-                {"pass", film.passes()},
-                {"seconds", seconds},
-                {"relative_error", std::isfinite(passError) ? Json(passError) : Json(nullptr)}};
-            return store_.recordPass(id, attempt, double(film.passes()) / passesTotal,
-                                     film.passes(), passesTotal, passError, eta, point);
-        };
-        if (checkpoint && checkpoint->passes() > job.passesDone &&
-            !record(*checkpoint, priorSeconds, -1))
-            lost = cancel = true;
+        RenderSession session(*scene, settings, &lease.cancel);
+        std::unique_ptr<Film> film =
+            files_.readCheckpoint(job.id, scene->camera.width(), scene->camera.height());
+        if (!film) film = session.makeFilm();
+        PassRecorder recorder(store_, files_, events_, lease, job, settings, session.passesTotal(),
+                              counters_.passes);
+        recorder.catchUp(*film);
+        if (film->passes() == 0 && settings.timeLimit > 0)
+            lease.setFirstPassDeadline(settings.timeLimit);
 
-        auto started = std::chrono::steady_clock::now();
-        auto lastPreview = started - std::chrono::hours(1);
-        auto seconds = [&] {
-            return std::chrono::duration<double>(std::chrono::steady_clock::now() - started)
-                .count();
-        };
-        RenderCallbacks callbacks;
-        callbacks.cancel = &cancel;
-        callbacks.resume = checkpoint.get();
-        callbacks.onProgress = [&](const RenderProgress& p) {
-            LiveProgress live{p.fraction, p.passesTotal, p.relativeError, -1};
-            // The spp budget at the rate so far, or the time limit if that comes first (a target
-            // error may stop it sooner still; that cannot be foreseen).
-            if (p.fraction > 0 && p.elapsedSeconds > 0)
-                live.etaSeconds = p.elapsedSeconds * (1 - p.fraction) / p.fraction;
-            if (settings.timeLimit > 0) {
-                double left = std::max(0.0, settings.timeLimit - p.elapsedSeconds);
-                live.etaSeconds = live.etaSeconds < 0 ? left : std::min(live.etaSeconds, left);
-            }
-            events_.setLive(id, live);
-        };
-        callbacks.onPass = [&](const Film& film) {
-            if (lost) return;
-            files_.writeCheckpoint(id, film);
-            // The preview at most twice a second (the final image is written anyway), and before
-            // the pass is recorded: a client told of a pass finds its preview.
-            if (std::chrono::steady_clock::now() - lastPreview > std::chrono::milliseconds(500)) {
-                files_.writeImage(id, "preview.png", film, settings.exposure);
-                lastPreview = std::chrono::steady_clock::now();
-            }
-            std::optional<LiveProgress> live = events_.live(id);
-            if (!record(film, priorSeconds + seconds(), live ? live->etaSeconds : -1)) {
-                lost = cancel = true;
-                return;
-            }
-            counters_.passes++;
-            events_.notify();
-        };
-        RenderResult result = render(*scene, settings, callbacks);
-        counters_.rays += result.stats.rays;
-        counters_.renderSeconds = counters_.renderSeconds + result.stats.renderSeconds;
-        counters_.lastRaysPerSecond = result.stats.raysPerSecond;
-        stats = result.stats.toJson();
-        if (result.stats.stopReason == StopReason::Cancelled) {
-            outcome = JobState::Cancelled;
-            error = "cancelled";
+        RenderStats stats = renderPasses(session, *film, recorder.callbacks());
+        counters_.rays += stats.rays;
+        counters_.renderSeconds = counters_.renderSeconds + stats.renderSeconds;
+        counters_.lastRaysPerSecond = stats.raysPerSecond;
+        outcome.stats = stats.toJson();
+        if (lease.timedOut && film->passes() == 0) {
+            outcome.error = "/settings/time_limit: no pass finished within the time limit of " +
+                            Json(settings.timeLimit).dump() +
+                            " s; raise time_limit, or lower spp_per_pass or photons";
+        } else if (stats.stopReason == StopReason::Cancelled) {
+            outcome.state = JobState::Cancelled;
+            outcome.error = "cancelled";
         } else {
-            files_.writeImage(id, "image.exr", *result.film, 0.0);
-            files_.writeImage(id, "image.png", *result.film, settings.exposure);
-            files_.writeImage(id, "preview.png", *result.film, settings.exposure);
-            outcome = JobState::Succeeded;
+            files_.writeImage(job.id, "image.exr", *film, 0.0);
+            files_.writeImage(job.id, "image.png", *film, settings.exposure);
+            files_.writeImage(job.id, "preview.png", *film, settings.exposure);
+            outcome.state = JobState::Succeeded;
         }
+    } catch (const RenderCancelled&) {
+        outcome.state = JobState::Cancelled;
+        outcome.error = "cancelled";
     } catch (const InputError& e) {
-        error = e.what();
+        outcome.error = e.what();
     } catch (const std::exception& e) {
-        error = std::string("render failed: ") + e.what();
+        outcome.error = std::string("render failed: ") + e.what();
     }
-    done = true;
-    heartbeat.join();
-    events_.clearLive(id);
-    // A render stopped by the server's own shutdown or a lost lease is not the job's outcome: it
-    // stays running until its lease expires, then goes back to the queue.
-    if (lost || (stopping_ && outcome == JobState::Cancelled)) {
-        // Deleted while it rendered: its last checkpoint or preview may have been written after
-        // the files were removed.
-        if (lost && !store_.get(id)) files_.remove(id);
-        return;
-    }
-    try {
-        if (store_.finish(id, attempt, outcome, stats, error, unixNow()) &&
-            outcome == JobState::Succeeded)
-            files_.removeCheckpoint(id);
-    } catch (const std::exception& e) {
-        std::cerr << "caustic serve: finishing job " << id << ": " << e.what() << "\n";
-    }
+    return outcome;
 }
 
 }  // namespace caustic::server

@@ -11,7 +11,9 @@
 #include <thread>
 #include <vector>
 
+#include "jobs/clock.h"
 #include "jobs/job_events.h"
+#include "jobs/lease_keeper.h"
 #include "server_config.h"
 #include "store/job_files.h"
 #include "store/job_store.h"
@@ -40,8 +42,17 @@ public:
     void wake();
 
 private:
+    /// How an attempt ended.
+    struct Outcome {
+        JobState state = JobState::Failed;
+        std::string error;
+        Json stats;
+    };
+
     void run();
-    void renderJob(Job job);
+    void renderJob(const Job& job);
+    Outcome renderLeased(const Job& job, LeaseKeeper& lease);
+    void finishJob(const Job& job, const LeaseKeeper& lease, const Outcome& outcome);
 
     const ServerConfig& config_;
     JobStore& store_;
@@ -54,8 +65,5 @@ private:
     std::mutex mutex_;
     std::condition_variable wake_;
 };
-
-/// Seconds since the Unix epoch.
-double unixNow();
 
 }  // namespace caustic::server

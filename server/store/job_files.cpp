@@ -2,34 +2,15 @@
 
 #include <unistd.h>
 
-#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 
 #include "film/image_io.h"
 
 namespace caustic::server {
 namespace fs = std::filesystem;
-
-namespace {
-
-constexpr char kMagic[8] = {'C', 'A', 'U', 'S', 'T', 'I', 'C', '1'};
-
-struct CheckpointHeader {
-    char magic[8];
-    int32_t width, height, passes;
-    int32_t reserved;
-    uint64_t dropped;
-};
-
-template <typename T>
-void append(std::string& out, const T* data, size_t count) {
-    out.append(reinterpret_cast<const char*>(data), count * sizeof(T));
-}
-
-}  // namespace
 
 void writeFileAtomically(const fs::path& file, const std::string& bytes) {
     fs::create_directories(file.parent_path());
@@ -44,36 +25,14 @@ void writeFileAtomically(const fs::path& file, const std::string& bytes) {
 }
 
 void JobFiles::writeCheckpoint(const std::string& id, const Film& film) const {
-    CheckpointHeader h{};
-    std::memcpy(h.magic, kMagic, sizeof kMagic);
-    h.width = film.width();
-    h.height = film.height();
-    h.passes = film.passes();
-    h.dropped = film.droppedSamples();
-    std::string bytes;
-    bytes.reserve(sizeof h + 2 * film.sums().size() * sizeof(double));
-    append(bytes, &h, 1);
-    append(bytes, film.sums().data(), film.sums().size());
-    append(bytes, film.sumsOfSquares().data(), film.sumsOfSquares().size());
-    writeFileAtomically(dir(id) / "checkpoint.bin", bytes);
+    writeFileAtomically(dir(id) / "checkpoint.bin", film.toBytes());
 }
 
 std::unique_ptr<Film> JobFiles::readCheckpoint(const std::string& id, int width, int height) const {
     std::ifstream in(dir(id) / "checkpoint.bin", std::ios::binary);
     if (!in) return nullptr;
-    CheckpointHeader h{};
-    in.read(reinterpret_cast<char*>(&h), sizeof h);
-    if (!in || std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 || h.width != width ||
-        h.height != height || h.passes < 0)
-        return nullptr;
-    const size_t n = size_t(width) * size_t(height) * 3;
-    std::vector<double> sum(n), sumSq(n);
-    in.read(reinterpret_cast<char*>(sum.data()), std::streamsize(n * sizeof(double)));
-    in.read(reinterpret_cast<char*>(sumSq.data()), std::streamsize(n * sizeof(double)));
-    if (!in) return nullptr;
-    auto film = std::make_unique<Film>(width, height);
-    film->restore(std::move(sum), std::move(sumSq), h.passes, h.dropped);
-    return film;
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return Film::fromBytes(bytes, width, height);
 }
 
 void JobFiles::removeCheckpoint(const std::string& id) const {

@@ -21,7 +21,7 @@ public:
         return dir(id) / name;
     }
 
-    /// Saves the film's accumulators (exact doubles, so a resumed render is bit-identical).
+    /// Saves the film (its exact sums and pass set, so a resumed render is bit-identical).
     void writeCheckpoint(const std::string& id, const Film& film) const;
     /// The saved film, or null when there is none or it does not fit width x height (a torn or
     /// foreign file is ignored: the render starts over).

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
+#include <string>
 
 #include "film/image_io.h"
 
@@ -38,26 +40,36 @@ TEST(Film, MergeEqualsAddingThePassesInOneFilm) {
         std::vector<Color> pass(6);
         for (int i = 0; i < 6; ++i)
             pass[size_t(i)] = Color(float(p * i), float(p + i), 1.0f / float(p + 1));
-        all.addPass(pass);
-        (p < 4 ? a : b).addPass(pass);
+        uint64_t dropped = p == 0 ? 2 : (p == 5 ? 3 : 0);
+        all.addPass(p, pass, dropped);
+        (p < 4 ? a : b).addPass(p, pass, dropped);
     }
-    a.addDropped(2);
-    b.addDropped(3);
     a.merge(b);
     EXPECT_EQ(a.passes(), 6);
     EXPECT_EQ(a.droppedSamples(), 5u);
     EXPECT_EQ(a.sums(), all.sums());
     EXPECT_EQ(a.sumsOfSquares(), all.sumsOfSquares());
+    EXPECT_TRUE(a == all);
 }
 
-TEST(Film, RestoreReproducesTheFilm) {
-    Film film(2, 2), copy(2, 2);
-    film.addPass(std::vector<Color>(4, Color(1, 2, 3)));
-    film.addPass(std::vector<Color>(4, Color(3, 2, 1)));
-    copy.restore(film.sums(), film.sumsOfSquares(), film.passes(), 7);
-    EXPECT_EQ(copy.meanRgb(), film.meanRgb());
-    EXPECT_EQ(copy.relativeError(), film.relativeError());
-    EXPECT_EQ(copy.droppedSamples(), 7u);
+TEST(Film, BytesReproduceTheFilm) {
+    Film film(2, 2);
+    film.addPass(0, std::vector<Color>(4, Color(1, 2, 3)), 3);
+    film.addPass(1, std::vector<Color>(4, Color(3, 2, 1)), 4);
+    std::string bytes = film.toBytes();
+    std::unique_ptr<Film> copy = Film::fromBytes(bytes, 2, 2);
+    ASSERT_TRUE(copy);
+    EXPECT_TRUE(*copy == film);
+    EXPECT_EQ(copy->meanRgb(), film.meanRgb());
+    EXPECT_EQ(copy->relativeError(), film.relativeError());
+    EXPECT_EQ(copy->droppedSamples(), 7u);
+    EXPECT_EQ(copy->passSet().toString(), "0-1");
+    // Torn, foreign or mis-sized bytes are no film.
+    EXPECT_FALSE(Film::fromBytes(bytes.substr(0, bytes.size() - 1), 2, 2));
+    EXPECT_FALSE(Film::fromBytes(bytes + "x", 2, 2));
+    EXPECT_FALSE(Film::fromBytes(bytes, 2, 3));
+    EXPECT_FALSE(Film::fromBytes("CAUSTIC1", 2, 2));
+    EXPECT_FALSE(Film::fromBytes("", 2, 2));
 }
 
 TEST(ImageIo, ExrRoundTripIsExactAndPngIsSrgbEncoded) {

@@ -38,8 +38,9 @@ TEST(MemoryStats, ComponentsAddUpAndFilmIsPerPixel) {
     MemoryStats m = renderMemory(spheresOnly(), {{"integrator", "path"}, {"spp", 2}});
     EXPECT_EQ(m.total(),
               m.geometry + m.meshes + m.accelerator + m.film + m.lightTables + m.photonMaps);
-    // Sum and sum of squares in double per channel, plus the float pass buffer.
-    EXPECT_EQ(m.film, size_t(kWidth) * kHeight * (2 * 3 * sizeof(double) + 3 * sizeof(float)));
+    // Per channel a 128-bit sum and a 192-bit sum of squares (film/exact_sum.h), plus the float
+    // pass buffer.
+    EXPECT_EQ(m.film, size_t(kWidth) * kHeight * (3 * (16 + 24) + 3 * sizeof(float)));
     EXPECT_GT(m.geometry, 0u);
     json j = m.toJson();
     for (const char* key :

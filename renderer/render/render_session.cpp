@@ -1,0 +1,200 @@
+#include "render/render_session.h"
+
+#include <omp.h>
+
+#include <chrono>
+#include <mutex>
+
+#include "core/error.h"
+
+namespace caustic {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+constexpr int kTileSize = 16;
+
+// Estimates every pixel of one tile for one pass, into `out`.
+struct TileRenderer {
+    const Scene& scene;
+    const Integrator& integrator;
+    const RenderSettings& settings;
+    const Interrupt& interrupt;
+    int sppPerPass;
+    uint32_t pass;
+    std::vector<Color>& out;
+
+    // Renders one tile; adds its rays and dropped samples to the counters.
+    void tile(int tx, int ty, uint64_t& rays, uint64_t& dropped) const {
+        const Camera& camera = scene.camera;
+        int x1 = std::min(tx + kTileSize, camera.width());
+        int y1 = std::min(ty + kTileSize, camera.height());
+        SampleContext ctx;
+        ctx.interrupt = &interrupt;
+        for (int y = ty; y < y1; ++y) {
+            for (int x = tx; x < x1; ++x) {
+                uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
+                DVec3 sum(0.0);  // double: many large finite samples must not overflow
+                int valid = 0;
+                for (int s = 0; s < sppPerPass; ++s) {
+                    ctx.rng = Rng::forSample(settings.seed, pass, pixel, uint64_t(s));
+                    Vec2 jitter = ctx.rng.uniform2();
+                    Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
+                    Color L = integrator.Li(ray, ctx);
+                    // A non-finite sample is a bug or an overflow; keep it out of the image.
+                    if (!isFinite(L)) {
+                        ++dropped;
+                        continue;
+                    }
+                    sum += DVec3(L);
+                    ++valid;
+                }
+                out[pixel] = valid > 0 ? Color(sum / double(valid)) : Color(0.0f);
+            }
+        }
+        rays += ctx.rays;
+    }
+};
+
+}  // namespace
+
+RenderSession::RenderSession(const Scene& scene, const RenderSettings& settings,
+                             const std::atomic<bool>* cancel)
+    : scene_(scene),
+      settings_(settings),
+      sppPerPass_(settings.resolvedSppPerPass()),
+      passesTotal_((settings.spp + sppPerPass_ - 1) / sppPerPass_),
+      threads_(settings.threads > 0 ? settings.threads : omp_get_max_threads()) {
+    // Build what this render needs.
+    auto t0 = Clock::now();
+    accel_ = createAccelerator(settings_.accelerator, scene_.geometry);
+    acceleratorSeconds_ = secondsSince(t0);
+    auto t1 = Clock::now();
+    integrator_ = createIntegrator(scene_, *accel_, settings_);
+    Interrupt pilotInterrupt(cancel);
+    integrator_->setInterrupt(&pilotInterrupt);
+    checkMemory();
+    integrator_->setInterrupt(nullptr);
+    if (pilotInterrupt.cancelled()) throw RenderCancelled();
+    passImage_.resize(size_t(scene_.camera.width()) * size_t(scene_.camera.height()));
+    integratorSeconds_ = secondsSince(t1);
+}
+
+std::unique_ptr<Film> RenderSession::makeFilm() const {
+    return std::make_unique<Film>(scene_.camera.width(), scene_.camera.height());
+}
+
+// Refuses a render that would not fit in settings.memory_limit, before its first pass: what is
+// built so far is measured, the film is known from its size, the integrator estimates its peak.
+void RenderSession::checkMemory() const {
+    const size_t limit = settings_.memoryLimitBytes();
+    const int width = scene_.camera.width(), height = scene_.camera.height();
+    const size_t film = Film::bytesFor(width, height) + size_t(width) * height * sizeof(Color);
+    const size_t built =
+        scene_.geometry.memoryBytes() + accel_->memoryBytes() + film + scene_.lightTableBytes();
+    if (built > limit)
+        throw InputError("/settings/memory_limit",
+                         "the scene, its accelerator and the film already take " +
+                             std::to_string(built >> 20) + " MiB, more than the limit of " +
+                             std::to_string(limit >> 20) + " MiB");
+    integrator_->checkMemory(limit - built);
+}
+
+bool RenderSession::renderPass(int pass, const Interrupt& interrupt, uint64_t& rays,
+                               uint64_t& dropped, const std::function<void(double)>& tileDone) {
+    const int tilesX = (scene_.camera.width() + kTileSize - 1) / kTileSize;
+    const int tilesY = (scene_.camera.height() + kTileSize - 1) / kTileSize;
+    const int tileCount = tilesX * tilesY;
+    TileRenderer renderer{scene_,      *integrator_,   settings_, interrupt,
+                          sppPerPass_, uint32_t(pass), passImage_};
+    std::atomic<int> tilesDone{0};
+    std::atomic<bool> abandon{false};
+    uint64_t passRays = 0, passDropped = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) \
+    reduction(+ : passRays, passDropped)
+    for (int t = 0; t < tileCount; ++t) {
+        if (abandon.load(std::memory_order_relaxed)) continue;
+        if (interrupt.requested()) {
+            abandon = true;
+            continue;
+        }
+        renderer.tile((t % tilesX) * kTileSize, (t / tilesX) * kTileSize, passRays, passDropped);
+        int done = ++tilesDone;
+        if (tileDone) tileDone(double(done) / tileCount);
+    }
+    rays += passRays;
+    dropped = passDropped;
+    // A tile's paths may have stopped early too: whatever asked, the pass is not whole.
+    return !abandon && !interrupt.requested();
+}
+
+RangeResult RenderSession::renderRange(int first, int last, Film& film,
+                                       const RenderCallbacks& callbacks) {
+    auto t0 = Clock::now();
+    RangeResult result;
+    StopRules rules(settings_, callbacks.cancel);
+    rules.start(film);
+    integrator_->setInterrupt(&rules.interrupt());
+    std::mutex progressMutex;
+    auto lastProgress = Clock::now();
+    auto report = [&](double passFraction) {
+        if (!callbacks.onProgress) return;
+        RenderProgress p;
+        p.passesDone = film.passes();
+        p.passesTotal = passesTotal_;
+        p.fraction = std::clamp((film.passes() + passFraction) / passesTotal_, 0.0, 1.0);
+        p.elapsedSeconds = rules.elapsed();
+        p.relativeError = film.relativeError();
+        callbacks.onProgress(p);
+    };
+    // Throttled progress from whichever thread gets the lock.
+    auto tileDone = [&](double passFraction) {
+        std::unique_lock lock(progressMutex, std::try_to_lock);
+        if (lock && secondsSince(lastProgress) > 0.1) {
+            lastProgress = Clock::now();
+            report(passFraction);
+        }
+    };
+
+    // A resumed render that had reached its target stops where it did.
+    std::optional<StopReason> stop;
+    if (reachedTargetError(film, settings_.targetError)) stop = StopReason::TargetError;
+    for (int pass = first; pass < last && !stop; ++pass) {
+        auto tPass = Clock::now();
+        result.rays += integrator_->beginPass(uint32_t(pass));
+        result.passSetupSeconds += secondsSince(tPass);
+        uint64_t dropped = 0;
+        if (rules.interrupt().requested() ||
+            !renderPass(pass, rules.interrupt(), result.rays, dropped, tileDone)) {
+            // A partial pass is not an estimate of the image: leave it out.
+            stop = rules.interruptReason();
+            break;
+        }
+        if (callbacks.onPassImage) callbacks.onPassImage(pass, passImage_, dropped);
+        film.addPass(pass, passImage_, dropped);
+        report(0.0);
+        if (callbacks.onPass) callbacks.onPass(film);
+        stop = rules.afterPass(film, pass + 1 < last);
+    }
+    integrator_->setInterrupt(nullptr);
+    result.stopReason = stop.value_or(StopReason::Spp);
+    result.renderSeconds = secondsSince(t0);
+    return result;
+}
+
+MemoryStats RenderSession::memory(const Film& film) const {
+    MemoryStats memory;
+    memory.meshes = scene_.geometry.meshBytes();
+    memory.geometry = scene_.geometry.memoryBytes() - memory.meshes;
+    memory.accelerator = accel_->memoryBytes();
+    memory.film = film.memoryBytes() + passImage_.capacity() * sizeof(Color);
+    memory.lightTables = scene_.lightTableBytes();
+    memory.photonMaps = integrator_->memoryBytes();
+    return memory;
+}
+
+}  // namespace caustic

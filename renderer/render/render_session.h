@@ -1,0 +1,93 @@
+// A render session: what one job needs, built once from a loaded scene and its resolved settings
+// (the accelerator, the integrator and its light and photon budgets, the memory check), which
+// renders any pass range [first, last) of the image into a film. The CLI, the server's workers
+// and separate worker processes all render through it. Pass p depends only on (scene, settings,
+// p): ranges rendered anywhere merge into the film of one render (film/film.h).
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "accel/accelerator.h"
+#include "film/film.h"
+#include "integrators/integrator.h"
+#include "render/render_stats.h"
+#include "render/settings.h"
+#include "render/stopping.h"
+#include "scene/scene.h"
+
+namespace caustic {
+
+/// Reported during the render, from one thread at a time, at most about every 100 ms and after
+/// every pass.
+struct RenderProgress {
+    int passesDone = 0;
+    int passesTotal = 0;
+    double fraction = 0;  ///< Of the pass budget, in [0, 1].
+    double elapsedSeconds = 0;
+    double relativeError = 0;  ///< Of the passes done; NaN before two.
+};
+
+struct RenderCallbacks {
+    /// Progress; must be cheap and thread-safe (it is called from worker threads, one at a time).
+    std::function<void(const RenderProgress&)> onProgress;
+    /// After each pass is added to the film, from the calling thread (previews, checkpoints).
+    std::function<void(const Film&)> onPass;
+    /// Each finished pass's image and dropped samples, before it is added to the film (for a
+    /// merge that must replay passes in order, see target_error_merge.h).
+    std::function<void(int pass, const std::vector<Color>& image, uint64_t dropped)> onPassImage;
+    /// Polled between tiles and inside paths; when it becomes true the render stops, discarding
+    /// the partial pass.
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+/// What rendering a range did.
+struct RangeResult {
+    StopReason stopReason = StopReason::Spp;
+    uint64_t rays = 0;
+    double renderSeconds = 0;     ///< The passes, their setup included.
+    double passSetupSeconds = 0;  ///< Of renderSeconds, preparing passes (photon tracing).
+};
+
+class RenderSession {
+public:
+    /// Builds the accelerator and the integrator and checks the memory limit. Throws InputError
+    /// naming the setting at fault. `cancel` (may be null) stops the memory check's pilot.
+    RenderSession(const Scene& scene, const RenderSettings& settings,
+                  const std::atomic<bool>* cancel = nullptr);
+
+    const Scene& scene() const { return scene_; }
+    const RenderSettings& settings() const { return settings_; }
+    int sppPerPass() const { return sppPerPass_; }
+    /// Passes in the spp budget: ceil(spp / sppPerPass).
+    int passesTotal() const { return passesTotal_; }
+    int threads() const { return threads_; }
+    double acceleratorSeconds() const { return acceleratorSeconds_; }
+    double integratorSeconds() const { return integratorSeconds_; }
+
+    /// An empty film of the camera's size.
+    std::unique_ptr<Film> makeFilm() const;
+    /// Renders passes [first, last) onto `film` (which must hold none of them), stopping early
+    /// by the settings' time limit, target error and `callbacks.cancel`. Not reentrant.
+    RangeResult renderRange(int first, int last, Film& film, const RenderCallbacks& callbacks);
+    /// Bytes of each part, `film` included.
+    MemoryStats memory(const Film& film) const;
+
+private:
+    /// Renders pass `pass` into passImage_ on every thread; false when `interrupt` cut it short.
+    bool renderPass(int pass, const Interrupt& interrupt, uint64_t& rays, uint64_t& dropped,
+                    const std::function<void(double)>& tileDone);
+    void checkMemory() const;
+
+    const Scene& scene_;
+    RenderSettings settings_;
+    int sppPerPass_, passesTotal_, threads_;
+    std::unique_ptr<Accelerator> accel_;
+    std::unique_ptr<Integrator> integrator_;
+    std::vector<Color> passImage_;
+    double acceleratorSeconds_ = 0, integratorSeconds_ = 0;
+};
+
+}  // namespace caustic

@@ -1,0 +1,52 @@
+#include "render/stopping.h"
+
+#include <chrono>
+
+namespace caustic {
+
+std::string toString(StopReason r) {
+    switch (r) {
+        case StopReason::Spp:
+            return "spp";
+        case StopReason::TimeLimit:
+            return "time_limit";
+        case StopReason::TargetError:
+            return "target_error";
+        case StopReason::Cancelled:
+            return "cancelled";
+    }
+    return "unknown";
+}
+
+bool reachedTargetError(const Film& film, double targetError) {
+    return targetError > 0 && film.passes() >= 2 && film.passSet().isPrefix() &&
+           film.relativeError() <= targetError;
+}
+
+StopRules::StopRules(const RenderSettings& settings, const std::atomic<bool>* cancel)
+    : timeLimit_(settings.timeLimit), targetError_(settings.targetError), interrupt_(cancel) {}
+
+void StopRules::start(const Film& film) {
+    start_ = Interrupt::Clock::now();
+    if (film.passes() > 0) armTimeLimit();
+}
+
+void StopRules::armTimeLimit() {
+    if (timeLimit_ <= 0) return;
+    interrupt_.setDeadline(start_ + std::chrono::duration_cast<Interrupt::Clock::duration>(
+                                        std::chrono::duration<double>(timeLimit_)));
+}
+
+double StopRules::elapsed() const {
+    return std::chrono::duration<double>(Interrupt::Clock::now() - start_).count();
+}
+
+std::optional<StopReason> StopRules::afterPass(const Film& film, bool passesLeft) {
+    if (interrupt_.cancelled()) return StopReason::Cancelled;
+    if (reachedTargetError(film, targetError_)) return StopReason::TargetError;
+    if (timeLimit_ > 0 && passesLeft && elapsed() >= timeLimit_) return StopReason::TimeLimit;
+    armTimeLimit();  // from now on a pass running at the limit is cut short
+    return std::nullopt;
+}
+
+}  // namespace caustic

@@ -1,0 +1,53 @@
+#include "jobs/lease_keeper.h"
+
+#include "jobs/clock.h"
+
+namespace caustic::server {
+
+using SteadyClock = std::chrono::steady_clock;
+
+LeaseKeeper::LeaseKeeper(JobStore& store, const ServerConfig& config, std::string id, int attempt,
+                         const std::atomic<bool>& stopping)
+    : store_(store),
+      config_(config),
+      id_(std::move(id)),
+      attempt_(attempt),
+      stopping_(stopping),
+      thread_([this] { run(); }) {}
+
+LeaseKeeper::~LeaseKeeper() {
+    done_ = true;
+    thread_.join();
+}
+
+void LeaseKeeper::setFirstPassDeadline(double seconds) {
+    auto deadline = SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
+                                             std::chrono::duration<double>(seconds));
+    firstPassDeadlineNs_ = deadline.time_since_epoch().count();
+}
+
+void LeaseKeeper::run() {
+    const auto period = std::chrono::duration<double>(std::min(1.0, config_.leaseSeconds / 4));
+    auto last = SteadyClock::now();
+    while (!done_) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        if (stopping_) cancel = true;
+        if (!passFinished_ &&
+            SteadyClock::now().time_since_epoch().count() >= firstPassDeadlineNs_) {
+            timedOut = true;
+            cancel = true;
+        }
+        if (SteadyClock::now() - last < period) continue;
+        last = SteadyClock::now();
+        LeaseStatus s = LeaseStatus::Held;
+        try {
+            s = store_.heartbeat(id_, attempt_, unixNow(), config_.leaseSeconds);
+        } catch (const std::exception&) {
+            continue;  // the store is busy: try again at the next beat
+        }
+        if (s == LeaseStatus::Lost) lost = true;
+        if (s != LeaseStatus::Held) cancel = true;
+    }
+}
+
+}  // namespace caustic::server

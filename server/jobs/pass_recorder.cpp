@@ -1,0 +1,80 @@
+#include "jobs/pass_recorder.h"
+
+#include <cmath>
+
+namespace caustic::server {
+
+using SteadyClock = std::chrono::steady_clock;
+
+PassRecorder::PassRecorder(JobStore& store, const JobFiles& files, JobEvents& events,
+                           LeaseKeeper& lease, const Job& job, const RenderSettings& settings,
+                           int passesTotal, std::atomic<uint64_t>& passCounter)
+    : store_(store),
+      files_(files),
+      events_(events),
+      lease_(lease),
+      job_(job),
+      settings_(settings),
+      passesTotal_(passesTotal),
+      passCounter_(passCounter),
+      started_(SteadyClock::now()),
+      lastPreview_(started_ - std::chrono::hours(1)) {
+    if (!job.convergence.empty() && job.convergence.back().contains("seconds"))
+        priorSeconds_ = job.convergence.back()["seconds"].get<double>();
+}
+
+bool PassRecorder::record(const Film& film, double seconds, double eta) {
+    double error = film.relativeError();
+    Json point{{"pass", film.passes()},
+               {"seconds", seconds},
+               {"relative_error", std::isfinite(error) ? Json(error) : Json(nullptr)}};
+    return store_.recordPass(job_.id, job_.attempt, double(film.passes()) / passesTotal_,
+                             film.passes(), passesTotal_, error, eta, point);
+}
+
+void PassRecorder::catchUp(const Film& checkpoint) {
+    if (checkpoint.passes() > job_.passesDone && !record(checkpoint, priorSeconds_, -1))
+        lease_.lost = lease_.cancel = true;
+}
+
+void PassRecorder::onProgress(const RenderProgress& p) {
+    LiveProgress live{p.fraction, p.passesTotal, p.relativeError, -1};
+    // The pass budget at the rate so far, or the time limit if that comes first (a target error
+    // may stop it sooner still; that cannot be foreseen).
+    if (p.fraction > 0 && p.elapsedSeconds > 0)
+        live.etaSeconds = p.elapsedSeconds * (1 - p.fraction) / p.fraction;
+    if (settings_.timeLimit > 0) {
+        double left = std::max(0.0, settings_.timeLimit - p.elapsedSeconds);
+        live.etaSeconds = live.etaSeconds < 0 ? left : std::min(live.etaSeconds, left);
+    }
+    events_.setLive(job_.id, live);
+}
+
+void PassRecorder::onPass(const Film& film) {
+    lease_.passFinished();
+    if (lease_.lost) return;
+    files_.writeCheckpoint(job_.id, film);
+    if (SteadyClock::now() - lastPreview_ > std::chrono::milliseconds(500)) {
+        files_.writeImage(job_.id, "preview.png", film, settings_.exposure);
+        lastPreview_ = SteadyClock::now();
+    }
+    std::optional<LiveProgress> live = events_.live(job_.id);
+    double seconds =
+        priorSeconds_ + std::chrono::duration<double>(SteadyClock::now() - started_).count();
+    if (!record(film, seconds, live ? live->etaSeconds : -1)) {
+        lease_.lost = lease_.cancel = true;
+        return;
+    }
+    ++passCounter_;
+    events_.notify();
+}
+
+RenderCallbacks PassRecorder::callbacks() {
+    RenderCallbacks c;
+    c.cancel = &lease_.cancel;
+    c.onProgress = [this](const RenderProgress& p) { onProgress(p); };
+    c.onPass = [this](const Film& film) { onPass(film); };
+    return c;
+}
+
+}  // namespace caustic::server
