@@ -12,6 +12,8 @@
 // two doubles.
 #pragma once
 
+#include <immintrin.h>
+
 #include <cstdint>
 
 namespace caustic::exact {
@@ -38,6 +40,14 @@ struct Wide192 {
         s = UInt128(limb[1]) + w1 + uint64_t(s >> 64);
         limb[1] = uint64_t(s);
         limb[2] += w2 + uint64_t(s >> 64);
+    }
+    /// Adds x (the common case: a square of a value below 2^13 in magnitude).
+    void add(UInt128 x) {
+        UInt128 s = UInt128(limb[0]) + uint64_t(x);
+        limb[0] = uint64_t(s);
+        s = UInt128(limb[1]) + uint64_t(x >> 64) + uint64_t(s >> 64);
+        limb[1] = uint64_t(s);
+        limb[2] += uint64_t(s >> 64);
     }
     void add(const Wide192& o) {
         UInt128 s = UInt128(limb[0]) + o.limb[0];
@@ -84,6 +94,25 @@ inline void addSquare(Wide192& acc, Int128 q) {
     int s = top - 63;
     uint64_t low = uint64_t(m >> s);
     acc.add(UInt128(low) * low, 2 * s);
+}
+
+/// Adds pass value v to a channel's sum and sum of squares (as quantize and addSquare do); returns
+/// whether v was out of range. Values below 2^13 in magnitude, nearly all, take a fast path whose
+/// integers fit 64 bits; both paths give the same bits for the same v.
+inline bool accumulate(float v, Int128& sum, Wide192& squares) {
+    if (v > -0x1p13f && v < 0x1p13f) {
+        // round(v * 2^50) < 2^63, by cvtsd2si in the default round-to-nearest-even mode (the mode
+        // nearbyint uses in quantize); x86-64's SSE2 has it, unlike SSE4.1's roundsd.
+        int64_t q = _mm_cvtsd_si64(_mm_set_sd(double(v) * 0x1p50));
+        sum += q;
+        uint64_t m = q < 0 ? uint64_t(-q) : uint64_t(q);
+        squares.add(UInt128(m) * m);
+        return false;
+    }
+    Int128 q = quantize(v);
+    sum += q;
+    addSquare(squares, q);
+    return outOfRange(v);
 }
 
 /// The sum in pass-value units, rounded to double.

@@ -16,15 +16,15 @@ void Film::addPass(int index, const std::vector<Color>& pass, uint64_t dropped) 
         throw std::invalid_argument("a pass of " + std::to_string(pass.size()) +
                                     " pixels for a film of " + std::to_string(sum_.size() / 3));
     passSet_.insert(index, index + 1);
-    for (size_t p = 0; p < pass.size(); ++p) {
-        for (int c = 0; c < 3; ++c) {
-            float v = pass[p][c];
-            if (exact::outOfRange(v)) ++clamped_;
-            exact::Int128 q = exact::quantize(v);
-            sum_[3 * p + size_t(c)] += q;
-            exact::addSquare(sumSq_[3 * p + size_t(c)], q);
-        }
-    }
+    static_assert(sizeof(Color) == 3 * sizeof(float), "a pass is read as interleaved floats");
+    const float* values = pass.empty() ? nullptr : &pass[0][0];
+    const int64_t n = int64_t(sum_.size());
+    uint64_t clamped = 0;
+    // Every thread the render had idles while a pass is added: share the work (a large film).
+#pragma omp parallel for schedule(static) reduction(+ : clamped) if (n > 262144)
+    for (int64_t i = 0; i < n; ++i)
+        clamped += exact::accumulate(values[i], sum_[size_t(i)], sumSq_[size_t(i)]);
+    clamped_ += clamped;
     dropped_ += dropped;
 }
 
