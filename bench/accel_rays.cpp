@@ -32,12 +32,6 @@ using namespace caustic::bench;
 
 using namespace caustic;
 
-constexpr const char* kUsage =
-    "usage: bench_accel_rays [--repeats N] [--meshes bunny,teapot,bunny-1m] [--smoke]\n"
-    "  --repeats N    builds and interleaved kdtree / embree timings per measure (default 3)\n"
-    "  --meshes LIST  comma-separated, from bunny, teapot, bunny-1m (default: all three)\n"
-    "  --smoke        teapot only, 64x64 primary rays, 4096 random rays, 1 repeat\n";
-
 const std::vector<std::string> kMeshNames = {"bunny", "teapot", "bunny-1m"};
 
 struct Options {
@@ -48,25 +42,26 @@ struct Options {
     size_t bruteRays = 16384;    // at most this many rays per set for bruteforce
 };
 
-Options parseArgs(const std::vector<std::string>& args) {
-    Options o;
+// Parses the command line into `o`; returns -1 to run, else the exit code.
+int parseArgs(int argc, char** argv, Options& o) {
+    CLI::App app("Build time and rays per second of our SAH kd-tree against Embree on meshes.",
+                 "bench_accel_rays");
     bool smoke = false;
-    forEachOption(args, o.repeats, smoke, [&](const std::string& a, auto value) {
-        if (a != "--meshes") return false;
-        o.meshes = splitList(value(), a);
-        for (const std::string& item : o.meshes)
-            if (std::find(kMeshNames.begin(), kMeshNames.end(), item) == kMeshNames.end())
-                throw std::invalid_argument("--meshes: unknown mesh \"" + item +
-                                            "\" (valid: bunny, teapot, bunny-1m)");
-        return true;
-    });
+    addCommonOptions(app, o.repeats, "Builds and interleaved kdtree / embree timings per measure",
+                     smoke, "Teapot only, 64x64 primary rays, 4096 random rays, 1 repeat");
+    app.add_option("--meshes", o.meshes, "Meshes, comma-separated")
+        ->delimiter(',')
+        ->check(CLI::IsMember(kMeshNames))
+        ->type_name("LIST")
+        ->capture_default_str();
+    if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
     if (smoke) {
         o.repeats = 1;
         o.meshes = {"teapot"};
         o.side = 64;
         o.randomRays = 4096;
     }
-    return o;
+    return -1;
 }
 
 // Scales and translates the mesh so that its bounds fit [-0.5, 0.5]^3, centred at the origin.
@@ -376,11 +371,8 @@ void printTables(const std::vector<MeshResult>& results, const Options& opt, int
 }  // namespace
 
 int main(int argc, char** argv) {
-    int exitCode = 0;
-    std::optional<Options> parsed =
-        startBenchmark("bench_accel_rays", kUsage, argc, argv, parseArgs, exitCode);
-    if (!parsed) return exitCode;
-    const Options& opt = *parsed;
+    Options opt;
+    if (int exitCode = parseArgs(argc, argv, opt); exitCode >= 0) return exitCode;
     const int allThreads = omp_get_max_threads();
 
     std::vector<MeshResult> results;

@@ -1,4 +1,5 @@
-// Helpers shared by the benchmark programs: argument parsing, the machine line, statistics.
+// Helpers shared by the benchmark programs: the command line (CLI11), the machine line,
+// statistics.
 #pragma once
 
 #include <omp.h>
@@ -9,26 +10,12 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <optional>
-#include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace caustic::bench {
+#include "command_line.h"
 
-inline int parsePositive(const std::string& text, const std::string& what) {
-    size_t used = 0;
-    int v = 0;
-    try {
-        v = std::stoi(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || v <= 0)
-        throw std::invalid_argument(what + ": expected a positive integer, got \"" + text + "\"");
-    return v;
-}
+namespace caustic::bench {
 
 inline std::string cpuModel() {
     std::ifstream in("/proc/cpuinfo");
@@ -77,64 +64,26 @@ inline double median(std::vector<double> v) {
 }
 
 /// The first line of every benchmark's output: the machine and the exact command.
-inline void printMachine(int argc, char** argv);
-
-/// Calls handle(option, value) for every option in `args`; value() consumes and returns the
-/// option's argument, or throws when there is none. Also handles --repeats and --smoke, the
-/// options every benchmark has.
-template <class Handle>
-void forEachOption(const std::vector<std::string>& args, int& repeats, bool& smoke, Handle handle) {
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
-            return args[++i];
-        };
-        if (a == "--repeats")
-            repeats = parsePositive(value(), a);
-        else if (a == "--smoke")
-            smoke = true;
-        else if (!handle(a, value))
-            throw std::invalid_argument("unknown option \"" + a + "\"");
-    }
-}
-
-/// The items of a comma-separated list; throws for an empty list.
-inline std::vector<std::string> splitList(const std::string& text, const std::string& option) {
-    std::vector<std::string> items;
-    std::stringstream list(text);
-    for (std::string item; std::getline(list, item, ',');) items.push_back(item);
-    if (items.empty()) throw std::invalid_argument(option + ": empty list");
-    return items;
-}
-
-/// Starts a benchmark: parses the arguments with `parse` and prints the machine line. For --help it
-/// prints `usage` (exit code 0), after an error the message and `usage` (exit code 2), and then
-/// returns nullopt.
-template <class Options>
-std::optional<Options> startBenchmark(const char* program, const char* usage, int argc, char** argv,
-                                      Options (*parse)(const std::vector<std::string>&),
-                                      int& exitCode) {
-    const std::vector<std::string> args(argv + 1, argv + argc);
-    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
-        std::cout << usage;
-        exitCode = 0;
-        return std::nullopt;
-    }
-    try {
-        Options options = parse(args);
-        printMachine(argc, argv);
-        return options;
-    } catch (const std::exception& e) {
-        std::cerr << program << ": " << e.what() << "\n" << usage;
-        exitCode = 2;
-        return std::nullopt;
-    }
-}
-
 inline void printMachine(int argc, char** argv) {
     std::cout << "Machine: nproc " << onlineCpus() << ", OpenMP threads " << omp_get_max_threads()
               << ", " << cpuModel() << ". Command: `" << commandLine(argc, argv) << "`\n\n";
+}
+
+/// Adds --repeats (`help` says what is repeated) and --smoke (`smokeHelp` says what it runs), the
+/// options every benchmark has.
+inline void addCommonOptions(CLI::App& app, int& repeats, const std::string& help, bool& smoke,
+                             const std::string& smokeHelp) {
+    cli::addNumber(app, "--repeats", repeats, 1, 1e6, help);
+    app.add_flag("--smoke", smoke, smokeHelp + ": checks that the benchmark runs (CTest)");
+}
+
+/// Parses a benchmark's command line into `app`'s options and prints the machine line. Returns
+/// -1 when the benchmark should run; otherwise the exit code, after printing --help (0) or a usage
+/// error (2).
+inline int parseBenchmarkArgs(CLI::App& app, int argc, char** argv) {
+    int exitCode = cli::parseCommandLine(app, argc, argv);
+    if (exitCode < 0) printMachine(argc, argv);
+    return exitCode;
 }
 
 }  // namespace caustic::bench

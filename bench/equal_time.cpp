@@ -29,19 +29,6 @@ using namespace caustic::bench;
 using caustic::Json;
 using caustic::Vec3;
 
-constexpr const char* kUsage =
-    "usage: bench_equal_time [--seconds 10,30,90] [--repeats N] [--size N] [--ref-spp N]\n"
-    "                        [--integrators path,photon,ppm] [--set INTEGRATOR.KEY=VALUE]...\n"
-    "                        [--smoke]\n"
-    "  --seconds LIST      time budgets, seconds of wall time per render (default 10,30,90)\n"
-    "  --repeats N         interleaved rounds (path, photon, ppm) per budget; medians (default 1)\n"
-    "  --size N            square resolution (default 128)\n"
-    "  --ref-spp N         samples per pixel of the path-traced reference (default 32768)\n"
-    "  --integrators LIST  which to run, in this order; ratios are to the first (default\n"
-    "                      path,photon,ppm)\n"
-    "  --set I.K=V         sets setting K of integrator I, e.g. ppm.radius=0.05 (repeatable)\n"
-    "  --smoke             32x32, 1-second budget, 256-spp reference: checks that it runs\n";
-
 const std::vector<std::string> kIntegrators = {"path", "photon", "ppm"};
 
 // The settings a user would pick for a time-limited render, before --set overrides (README.md says
@@ -68,52 +55,51 @@ struct Options {
     std::map<std::string, Json> settings;  // per integrator, defaults with --set applied
 };
 
-Options parseArgs(const std::vector<std::string>& args) {
-    Options o;
+// `--set INTEGRATOR.KEY=VALUE`: sets one setting of one integrator (checked when it renders).
+void setIntegratorSetting(const std::string& text, Options& o) {
+    size_t dot = text.find('.'), eq = text.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot ||
+        !o.settings.count(text.substr(0, dot)))
+        throw CLI::ValidationError("--set",
+                                   "expected INTEGRATOR.KEY=VALUE with INTEGRATOR path, "
+                                   "photon or ppm, got \"" +
+                                       text + "\"");
+    o.settings[text.substr(0, dot)][text.substr(dot + 1, eq - dot - 1)] =
+        caustic::parseSettingValue(text.substr(eq + 1));
+}
+
+// Parses the command line into `o`; returns -1 to run, else the exit code.
+int parseArgs(int argc, char** argv, Options& o) {
     for (const std::string& name : kIntegrators) o.settings[name] = defaultSettings(name);
+    CLI::App app("path, photon and ppm at equal time against a path-traced reference.",
+                 "bench_equal_time");
     bool smoke = false;
-    forEachOption(args, o.repeats, smoke, [&](const std::string& a, auto value) {
-        if (a == "--seconds") {
-            o.budgets.clear();
-            for (const std::string& item : splitList(value(), a)) {
-                size_t used = 0;
-                double s = std::stod(item, &used);
-                if (used != item.size() || !(s > 0))
-                    throw std::invalid_argument(a + ": expected positive numbers, got " + item);
-                o.budgets.push_back(s);
-            }
-        } else if (a == "--size") {
-            o.size = parsePositive(value(), a);
-        } else if (a == "--ref-spp") {
-            o.refSpp = parsePositive(value(), a);
-        } else if (a == "--integrators") {
-            o.integrators = splitList(value(), a);
-            for (const std::string& name : o.integrators)
-                if (!o.settings.count(name))
-                    throw std::invalid_argument(a + ": unknown integrator \"" + name + "\"");
-        } else if (a == "--set") {
-            const std::string& kv = value();
-            size_t dot = kv.find('.'), eq = kv.find('=');
-            if (dot == std::string::npos || eq == std::string::npos || eq < dot ||
-                !o.settings.count(kv.substr(0, dot)))
-                throw std::invalid_argument(
-                    "--set: expected INTEGRATOR.KEY=VALUE with INTEGRATOR "
-                    "path, photon or ppm, got \"" +
-                    kv + "\"");
-            o.settings[kv.substr(0, dot)][kv.substr(dot + 1, eq - dot - 1)] =
-                caustic::parseSettingValue(kv.substr(eq + 1));
-        } else {
-            return false;
-        }
-        return true;
-    });
+    addCommonOptions(app, o.repeats, "Interleaved rounds (path, photon, ppm) per budget; medians",
+                     smoke, "32x32, 1-second budget, 256-spp reference");
+    caustic::cli::addNumber(app, "--seconds", o.budgets, 0.001, 1e6,
+                            "Time budgets, seconds of wall time per render, comma-separated");
+    caustic::cli::addNumber(app, "--size", o.size, 1, 16384, "Square resolution");
+    caustic::cli::addNumber(app, "--ref-spp", o.refSpp, 1, 1e6,
+                            "Samples per pixel of the path-traced reference");
+    app.add_option("--integrators", o.integrators,
+                   "Which to run, comma-separated, in this order; ratios are to the first")
+        ->delimiter(',')
+        ->check(CLI::IsMember(kIntegrators))
+        ->type_name("LIST")
+        ->capture_default_str();
+    app.add_option_function<std::string>(
+           "--set", [&o](const std::string& text) { setIntegratorSetting(text, o); },
+           "Sets setting KEY of integrator I, e.g. ppm.radius=0.05 (repeatable)")
+        ->type_name("I.KEY=VALUE")
+        ->trigger_on_parse();
+    if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
     if (smoke) {
         o.budgets = {1};
         o.repeats = 1;
         o.size = 32;
         o.refSpp = 256;
     }
-    return o;
+    return -1;
 }
 
 // Full, validated settings of one render (parseSettings throws for a bad --set).
@@ -363,11 +349,8 @@ void writePreviews(const std::filesystem::path& file, const Reference& ref, cons
 }  // namespace
 
 int main(int argc, char** argv) {
-    int exitCode = 0;
-    std::optional<Options> parsed =
-        startBenchmark("bench_equal_time", kUsage, argc, argv, parseArgs, exitCode);
-    if (!parsed) return exitCode;
-    const Options& opt = *parsed;
+    Options opt;
+    if (int exitCode = parseArgs(argc, argv, opt); exitCode >= 0) return exitCode;
 
     try {
         // Load the scene at the benchmark's resolution; find the caustic region.

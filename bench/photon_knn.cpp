@@ -31,15 +31,6 @@ namespace {
 using namespace caustic;
 using namespace caustic::bench;
 
-constexpr const char* kUsage =
-    "usage: bench_photon_knn [--repeats N] [--sizes 10000,100000,1000000] [--queries N]\n"
-    "                        [--leaves 10,8,16] [--smoke]\n"
-    "  --repeats N    builds and interleaved timings per measure (default 5)\n"
-    "  --sizes LIST   photons in the map, comma-separated (default 10000,100000,1000000)\n"
-    "  --queries N    query points, the same for every index and size (default 100000)\n"
-    "  --leaves LIST  nanoflann leaf_max_size values (default 10,8,16; ours is fixed at 8)\n"
-    "  --smoke        1000 and 5000 photons, 1000 queries, 1 repeat\n";
-
 struct Options {
     int repeats = 5;
     std::vector<int> sizes = {10000, 100000, 1000000};
@@ -48,32 +39,26 @@ struct Options {
     double bruteWork = 2e7;  // brute-force queries per size: this over the size (at least 5)
 };
 
-Options parseArgs(const std::vector<std::string>& args) {
-    Options o;
+// Parses the command line into `o`; returns -1 to run, else the exit code.
+int parseArgs(int argc, char** argv, Options& o) {
+    CLI::App app("k-nearest photon look-ups: our photon kd-tree against nanoflann and brute force.",
+                 "bench_photon_knn");
     bool smoke = false;
-    auto ints = [](const std::string& text, const std::string& a) {
-        std::vector<int> v;
-        for (const std::string& item : splitList(text, a)) v.push_back(parsePositive(item, a));
-        return v;
-    };
-    forEachOption(args, o.repeats, smoke, [&](const std::string& a, auto value) {
-        if (a == "--sizes")
-            o.sizes = ints(value(), a);
-        else if (a == "--queries")
-            o.queries = parsePositive(value(), a);
-        else if (a == "--leaves")
-            o.leaves = ints(value(), a);
-        else
-            return false;
-        return true;
-    });
+    addCommonOptions(app, o.repeats, "Builds and interleaved timings per measure", smoke,
+                     "1000 and 5000 photons, 1000 queries, 1 repeat");
+    caustic::cli::addNumber(app, "--sizes", o.sizes, 1, 1e9, "Photons in the map, comma-separated");
+    caustic::cli::addNumber(app, "--queries", o.queries, 1, 1e9,
+                            "Query points, the same for every index and size");
+    caustic::cli::addNumber(app, "--leaves", o.leaves, 1, 1e6,
+                            "nanoflann leaf_max_size values, comma-separated (ours is fixed at 8)");
+    if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
     if (smoke) {
         o.repeats = 1;
         o.sizes = {1000, 5000};
         o.queries = 1000;
         o.bruteWork = 1e6;
     }
-    return o;
+    return -1;
 }
 
 std::string loadAverage() {
@@ -367,11 +352,8 @@ bool runSize(const std::vector<Vec3>& points, const std::vector<Vec3>& queries, 
 }  // namespace
 
 int main(int argc, char** argv) {
-    int exitCode = 0;
-    std::optional<Options> parsed =
-        startBenchmark("bench_photon_knn", kUsage, argc, argv, parseArgs, exitCode);
-    if (!parsed) return exitCode;
-    const Options& opt = *parsed;
+    Options opt;
+    if (int exitCode = parseArgs(argc, argv, opt); exitCode >= 0) return exitCode;
     const int allThreads = omp_get_max_threads();
     const std::string loadBefore = loadAverage();
     std::ostringstream summary, detail;

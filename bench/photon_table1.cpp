@@ -26,16 +26,6 @@ namespace {
 
 using namespace caustic::bench;
 
-constexpr const char* kUsage =
-    "usage: bench_photon_table1 [--size N] [--photons 1e4,1e5,1e6] [--repeats N]\n"
-    "                           [--brute-repeats N] [--smoke]\n"
-    "  --size N           square resolution (default 64)\n"
-    "  --photons LIST     photon paths traced, comma-separated; 1e5 or 100000 (default "
-    "1e4,1e5,1e6)\n"
-    "  --repeats N        kd-tree renders per photon count, the median is kept (default 3)\n"
-    "  --brute-repeats N  brute-force renders per photon count (default 1)\n"
-    "  --smoke            16x16, 2 spp, photons 1000,10000, one render each: checks that it runs\n";
-
 // The seed report's Table 1 (shared/seed/report-zh.txt): seconds per image, 16 spp, k = 50.
 struct SeedRow {
     int64_t photons;
@@ -58,38 +48,19 @@ struct Options {
     std::vector<int64_t> photons = {10000, 100000, 1000000};
 };
 
-// A photon count written as an integer or in scientific notation ("1e5").
-int64_t parseCount(const std::string& text, const std::string& what) {
-    size_t used = 0;
-    double v = 0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !(v >= 1 && v <= 1e9) || v != std::floor(v))
-        throw std::invalid_argument(what + ": expected a whole number from 1 to 1e9, got \"" +
-                                    text + "\"");
-    return int64_t(v);
-}
-
-Options parseArgs(const std::vector<std::string>& args) {
-    Options o;
+// Parses the command line into `o`; returns -1 to run, else the exit code.
+int parseArgs(int argc, char** argv, Options& o) {
+    CLI::App app("Photon mapping with kd-tree and brute-force look-ups (the seed's Table 1).",
+                 "bench_photon_table1");
     bool smoke = false;
-    forEachOption(args, o.repeats, smoke, [&](const std::string& a, auto value) {
-        if (a == "--size") {
-            o.size = parsePositive(value(), a);
-        } else if (a == "--photons") {
-            o.photons.clear();
-            for (const std::string& item : splitList(value(), a))
-                o.photons.push_back(parseCount(item, a));
-        } else if (a == "--brute-repeats") {
-            o.bruteRepeats = parsePositive(value(), a);
-        } else {
-            return false;
-        }
-        return true;
-    });
+    addCommonOptions(app, o.repeats, "kd-tree renders per photon count; the median is kept", smoke,
+                     "16x16, 2 spp, photons 1000,10000, one render each");
+    caustic::cli::addNumber(app, "--size", o.size, 1, 16384, "Square resolution");
+    caustic::cli::addNumber(app, "--photons", o.photons, 1, 1e9,
+                            "Photon paths traced, comma-separated; 1e5 or 100000");
+    caustic::cli::addNumber(app, "--brute-repeats", o.bruteRepeats, 1, 1e6,
+                            "Brute-force renders per photon count");
+    if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
     if (smoke) {
         o.size = 16;
         o.spp = 2;
@@ -97,7 +68,7 @@ Options parseArgs(const std::vector<std::string>& args) {
         o.bruteRepeats = 1;
         o.photons = {1000, 10000};
     }
-    return o;
+    return -1;
 }
 
 std::string loadAverage() {
@@ -147,11 +118,8 @@ void countStored(const caustic::Scene& scene, const caustic::RenderSettings& set
 }  // namespace
 
 int main(int argc, char** argv) {
-    int exitCode = 0;
-    std::optional<Options> parsed =
-        startBenchmark("bench_photon_table1", kUsage, argc, argv, parseArgs, exitCode);
-    if (!parsed) return exitCode;
-    const Options& opt = *parsed;
+    Options opt;
+    if (int exitCode = parseArgs(argc, argv, opt); exitCode >= 0) return exitCode;
     const int threads = omp_get_max_threads();
     const std::string loadBefore = loadAverage();
 

@@ -27,14 +27,6 @@ using namespace caustic::bench;
 
 using caustic::RenderStats;
 
-constexpr const char* kUsage =
-    "usage: bench_raycast_scaling [--repeats N] [--accelerator NAME] [--sizes 500,1000,1500]\n"
-    "                             [--smoke]\n"
-    "  --repeats N         interleaved 1-thread / all-thread pairs per size (default 5)\n"
-    "  --accelerator NAME  default: embree, else kdtree, else bruteforce (what is built)\n"
-    "  --sizes LIST        square resolutions, comma-separated (default 500,1000,1500)\n"
-    "  --smoke             one repeat at 64x64: checks that the benchmark runs\n";
-
 // The seed report's Table 2 (shared/seed/report-zh.txt): seconds per ray-cast image.
 struct SeedRow {
     int size;
@@ -62,33 +54,25 @@ struct Options {
     std::vector<int> sizes = {500, 1000, 1500};
 };
 
-Options parseArgs(const std::vector<std::string>& args) {
-    Options o;
+// Parses the command line into `o`; returns -1 to run, else the exit code.
+int parseArgs(int argc, char** argv, Options& o) {
+    CLI::App app("Ray casting time at 1 thread and at all threads (the seed's Table 2).",
+                 "bench_raycast_scaling");
     bool smoke = false;
-    forEachOption(args, o.repeats, smoke, [&](const std::string& a, auto value) {
-        if (a == "--accelerator") {
-            o.accelerator = value();
-        } else if (a == "--sizes") {
-            o.sizes.clear();
-            for (const std::string& item : splitList(value(), a))
-                o.sizes.push_back(parsePositive(item, a));
-        } else {
-            return false;
-        }
-        return true;
-    });
+    addCommonOptions(app, o.repeats, "Interleaved 1-thread / all-thread pairs per size", smoke,
+                     "One repeat at 64x64");
+    app.add_option("--accelerator", o.accelerator,
+                   "What is built (default: embree, else kdtree, else bruteforce)")
+        ->check(CLI::IsMember(caustic::acceleratorNames()))
+        ->capture_default_str();
+    caustic::cli::addNumber(app, "--sizes", o.sizes, 1, 16384,
+                            "Square resolutions, comma-separated");
+    if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
     if (smoke) {
         o.repeats = 1;
         o.sizes = {64};
     }
-    const std::vector<std::string>& names = caustic::acceleratorNames();
-    if (std::find(names.begin(), names.end(), o.accelerator) == names.end()) {
-        std::string valid;
-        for (const std::string& n : names) valid += (valid.empty() ? "" : ", ") + n;
-        throw std::invalid_argument("unknown accelerator \"" + o.accelerator +
-                                    "\" (valid: " + valid + ")");
-    }
-    return o;
+    return -1;
 }
 
 double minimum(const std::vector<double>& v) {
@@ -119,11 +103,8 @@ struct SizeResult {
 }  // namespace
 
 int main(int argc, char** argv) {
-    int exitCode = 0;
-    std::optional<Options> parsed =
-        startBenchmark("bench_raycast_scaling", kUsage, argc, argv, parseArgs, exitCode);
-    if (!parsed) return exitCode;
-    const Options& opt = *parsed;
+    Options opt;
+    if (int exitCode = parseArgs(argc, argv, opt); exitCode >= 0) return exitCode;
     const int allThreads = omp_get_max_threads();
 
     std::vector<SizeResult> results;

@@ -1,49 +1,32 @@
-// The caustic command line: render scenes, list settings.
-#include <cstring>
+// The caustic command line: one CLI11 app whose subcommands render, serve and list settings; each
+// command module adds its subcommand and runs it once the whole line has parsed.
 #include <iostream>
-#include <string>
-#include <vector>
 
+#include "command_line.h"
 #include "render/settings.h"
 #include "render_command.h"
 #include "serve_command.h"
 
-namespace {
-
-constexpr const char* kHelp =
-    "caustic: a physically based renderer\n"
-    "usage:\n"
-    "  caustic render SCENE -o OUT.png [--set key=value ...]   render a scene (see caustic render "
-    "--help)\n"
-    "  caustic serve [--port N] [--data DIR] ...               run the render service (see caustic "
-    "serve --help)\n"
-    "  caustic settings                                        list render settings as JSON\n"
-    "  caustic --version\n";
-
-}  // namespace
-
 int main(int argc, char** argv) {
-    std::vector<std::string> args(argv + 1, argv + argc);
-    if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
-        std::cout << kHelp;
-        return args.empty() ? 2 : 0;
-    }
-    if (args[0] == "--version") {
-        std::cout << "caustic 0.1.0\n";
-        return 0;
-    }
-    if (args[0] == "settings") {
+    CLI::App app("Caustic: a physically based renderer and render service.", "caustic");
+    app.set_version_flag("--version", "caustic " CAUSTIC_VERSION);
+    app.get_formatter()->column_width(36);
+
+    caustic::RenderOptions renderOptions;
+    CLI::App* render = caustic::addRenderCommand(app, renderOptions);
+    caustic::server::ServerConfig serveConfig;
+    CLI::App* serve = caustic::addServeCommand(app, serveConfig);
+    CLI::App* settings = app.add_subcommand(
+        "settings", "Prints every render setting as JSON: type, default, range, unit, meaning.");
+
+    if (int exitCode = caustic::cli::parseCommandLine(app, argc, argv); exitCode >= 0)
+        return exitCode;
+    if (*render) return caustic::runRender(renderOptions);
+    if (*serve) return caustic::runServe(serveConfig);
+    if (*settings) {
         std::cout << caustic::settingsSchemaJson().dump(2) << "\n";
         return 0;
     }
-    if (args[0] == "serve") {
-        std::vector<std::string> rest(args.begin() + 1, args.end());
-        return caustic::runServeCommand(rest);
-    }
-    if (args[0] == "render") {
-        std::vector<std::string> rest(args.begin() + 1, args.end());
-        return caustic::runRenderCommand(rest);
-    }
-    std::cerr << "caustic: unknown command \"" << args[0] << "\"\n" << kHelp;
+    std::cerr << app.help();  // no command: a usage error
     return 2;
 }

@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -20,77 +19,6 @@ namespace caustic {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr const char* kUsage =
-    "usage: caustic render SCENE -o OUT.png|OUT.exr [-o ...] [--set key=value ...]\n"
-    "                      [--assets DIR] [--stats FILE] [--progress | --no-progress] [--quiet]\n"
-    "  SCENE        a scene JSON file, or the name of an example scene (cornell-spheres)\n"
-    "  -o FILE      output image; .png (sRGB, 8-bit) or .exr (linear float); repeatable\n"
-    "  --set k=v    override a render setting (caustic settings lists them)\n"
-    "  --assets DIR folder that mesh files are read from (default: $CAUSTIC_ASSETS or the\n"
-    "               repository's assets/meshes)\n"
-    "  --stats FILE write the settings and the render's stats (time per phase, rays, error,\n"
-    "               memory by component) as JSON\n";
-
-struct Options {
-    std::string scene;
-    std::vector<fs::path> outputs;
-    Json overrides = Json::object();
-    fs::path assets;
-    fs::path stats;
-    int progress = -1;  // -1: when stderr is a terminal
-    bool quiet = false;
-};
-
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-Options parseArgs(const std::vector<std::string>& args) {
-    Options o;
-    const char* env = std::getenv("CAUSTIC_ASSETS");
-    o.assets = env && *env ? fs::path(env) : fs::path(CAUSTIC_DEFAULT_ASSETS_DIR);
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
-            return args[++i];
-        };
-        if (a == "-o" || a == "--output") {
-            o.outputs.emplace_back(value());
-        } else if (a == "--set") {
-            const std::string& kv = value();
-            size_t eq = kv.find('=');
-            if (eq == std::string::npos || eq == 0)
-                throw UsageError("--set takes key=value, got \"" + kv + "\"");
-            o.overrides[kv.substr(0, eq)] = parseSettingValue(kv.substr(eq + 1));
-        } else if (a == "--assets") {
-            o.assets = value();
-        } else if (a == "--stats") {
-            o.stats = value();
-        } else if (a == "--progress") {
-            o.progress = 1;
-        } else if (a == "--no-progress") {
-            o.progress = 0;
-        } else if (a == "--quiet" || a == "-q") {
-            o.quiet = true;
-        } else if (!a.empty() && a[0] == '-') {
-            throw UsageError("unknown option " + a);
-        } else if (o.scene.empty()) {
-            o.scene = a;
-        } else {
-            throw UsageError("more than one scene given (\"" + o.scene + "\", \"" + a + "\")");
-        }
-    }
-    if (o.scene.empty()) throw UsageError("no scene given");
-    if (o.outputs.empty()) throw UsageError("no output given (-o OUT.png or -o OUT.exr)");
-    for (const fs::path& out : o.outputs) {
-        std::string ext = out.extension().string();
-        if (ext != ".png" && ext != ".exr")
-            throw UsageError("output " + out.string() + " must end in .png or .exr");
-    }
-    return o;
-}
 
 // A scene argument names a file, or an example scene by name.
 fs::path resolveScene(const std::string& arg) {
@@ -124,25 +52,13 @@ void writeStats(const fs::path& file, const RenderSettings& settings, const Rend
 
 }  // namespace
 
-int runRenderCommand(const std::vector<std::string>& args) {
-    if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
-        std::cout << kUsage;
-        return 0;
-    }
-    Options options;
-    try {
-        options = parseArgs(args);
-    } catch (const UsageError& e) {
-        std::cerr << "caustic: " << e.what() << "\n" << kUsage;
-        return 2;
-    }
-
+int runRender(const RenderOptions& options) {
     fs::path scenePath = resolveScene(options.scene);
     std::unique_ptr<Scene> scene;
     RenderSettings settings;
     try {
         SceneOptions sceneOptions;
-        sceneOptions.assetsDir = options.assets;
+        sceneOptions.assetsDir = fs::path(options.assets);
         scene = loadScene(readJsonFile(scenePath), sceneOptions);
         settings = parseSettings(mergeSettings(scene->settings, options.overrides));
     } catch (const InputError& e) {
@@ -168,7 +84,7 @@ int runRenderCommand(const std::vector<std::string>& args) {
 
     RgbImage image{result.film->width(), result.film->height(), result.film->meanRgb()};
     try {
-        for (const fs::path& out : options.outputs) writeImage(out, image, settings.exposure);
+        for (const std::string& out : options.outputs) writeImage(out, image, settings.exposure);
         if (!options.stats.empty()) writeStats(options.stats, settings, result.stats);
     } catch (const std::exception& e) {
         std::cerr << "caustic: error: " << e.what() << "\n";
@@ -181,8 +97,7 @@ int runRenderCommand(const std::vector<std::string>& args) {
         if (std::isfinite(s.relativeError))
             std::snprintf(error, sizeof error, "%.3g%%", 100.0 * s.relativeError);
         std::string outs;
-        for (const fs::path& out : options.outputs)
-            outs += (outs.empty() ? "" : ", ") + out.string();
+        for (const std::string& out : options.outputs) outs += (outs.empty() ? "" : ", ") + out;
         std::fprintf(stderr,
                      "caustic: %s: %s, %dx%d, %d spp in %d passes, %.3f s (setup %.3f s), "
                      "%srays/s on %d threads, relative error %s, stopped by %s, %llu samples "

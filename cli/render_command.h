@@ -1,13 +1,12 @@
 // `caustic render`: renders a scene file to images.
 #pragma once
 
-#include <string>
-#include <vector>
+#include "render_options.h"
 
 namespace caustic {
 
-/// Runs `caustic render` with the arguments after "render". Returns the process exit code: 0 on
-/// success, 1 when the render or an output failed, 2 for bad input or usage.
-int runRenderCommand(const std::vector<std::string>& args);
+/// Renders as `options` say. Returns the process exit code: 0 on success, 1 when an output could
+/// not be written, 2 for a bad scene or setting (one line on stderr naming the file and JSON path).
+int runRender(const RenderOptions& options);
 
 }  // namespace caustic

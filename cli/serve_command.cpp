@@ -2,11 +2,10 @@
 
 #include <signal.h>
 
-#include <cstdlib>
 #include <iostream>
-#include <stdexcept>
 #include <thread>
 
+#include "command_line.h"
 #include "service.h"
 
 namespace caustic {
@@ -14,136 +13,87 @@ namespace {
 
 using server::ServerConfig;
 
-constexpr const char* kUsage =
-    "usage: caustic serve [--host ADDR] [--port N] [--data DIR] [--token TOKEN] [options]\n"
-    "  --host ADDR              address to listen on (default 127.0.0.1; any other needs --token)\n"
-    "  --port N                 port (default 8080; 0 picks a free one)\n"
-    "  --data DIR               job store and images (default: $CAUSTIC_DATA or ./data)\n"
-    "  --token TOKEN            bearer token every POST and DELETE must carry (default:\n"
-    "                           $CAUSTIC_TOKEN)\n"
-    "  --assets DIR             folder mesh files resolve in (default: the repository's\n"
-    "                           assets/meshes)\n"
-    "  --scenes DIR             example scenes, submittable by name (default: scenes/)\n"
-    "  --web DIR                static files of the web page (default: web/)\n"
-    "  --workers N              jobs rendered at once (default 1)\n"
-    "  --threads N              threads per render, 0 for every core (default 0)\n"
-    "  --lease-seconds S        a worker's lease on its job (default 10)\n"
-    "  --max-stalled-leases N   leases in a row that may expire before a pass finishes before\n"
-    "                           the job fails (default 3); a server killed or stopped from\n"
-    "                           outside does not count, one that dies of a fault does\n"
-    "  --max-attempts N         starts of one job, whatever stopped them, before it fails\n"
-    "                           (default 100; guards against out-of-memory kills)\n"
-    "limits (a job over one gets 422 naming the field; defaults protect a small machine):\n"
-    "  --max-request-bytes N (8388608)  --max-resolution N (4096)  --max-pixels N (4194304)\n"
-    "  --max-spp N (65536)  --max-photons N (10000000)  --max-time-limit S (3600)\n"
-    "  --max-memory-mib N (4096)  --max-queued N (100)  --max-event-streams N (64)\n";
-
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-double number(const std::string& flag, const std::string& text, double lo, double hi) {
-    size_t used = 0;
-    double v = 0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used == 0 || used != text.size() || !(v >= lo && v <= hi))
-        throw UsageError(flag + " must be a number in [" + std::to_string(lo) + ", " +
-                         std::to_string(hi) + "], got \"" + text + "\"");
-    return v;
-}
-
 bool isLoopback(const std::string& host) {
     return host == "127.0.0.1" || host == "localhost" || host == "::1";
 }
 
-ServerConfig parseArgs(const std::vector<std::string>& args) {
-    ServerConfig c;
-    const char* data = std::getenv("CAUSTIC_DATA");
-    c.dataDir = data && *data ? data : "data";
-    const char* token = std::getenv("CAUSTIC_TOKEN");
-    c.token = token ? token : "";
-    c.assetsDir = CAUSTIC_DEFAULT_ASSETS_DIR;
-    c.scenesDir = CAUSTIC_DEFAULT_SCENES_DIR;
-    c.webDir = CAUSTIC_DEFAULT_WEB_DIR;
-    server::ServiceLimits& l = c.limits;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
-            return args[++i];
-        };
-        auto integer = [&](double lo, double hi) { return int64_t(number(a, value(), lo, hi)); };
-        if (a == "--host")
-            c.host = value();
-        else if (a == "--port")
-            c.port = int(integer(0, 65535));
-        else if (a == "--data")
-            c.dataDir = value();
-        else if (a == "--token")
-            c.token = value();
-        else if (a == "--assets")
-            c.assetsDir = value();
-        else if (a == "--scenes")
-            c.scenesDir = value();
-        else if (a == "--web")
-            c.webDir = value();
-        else if (a == "--workers")
-            c.workers = int(integer(1, 64));
-        else if (a == "--threads")
-            c.renderThreads = int(integer(0, 1024));
-        else if (a == "--lease-seconds")
-            c.leaseSeconds = number(a, value(), 0.5, 3600);
-        else if (a == "--max-stalled-leases")
-            c.maxStalledLeases = int(integer(1, 1000));
-        else if (a == "--max-attempts")
-            c.maxAttempts = int(integer(1, 1000000));
-        else if (a == "--max-request-bytes")
-            l.maxRequestBytes = size_t(integer(1024, 1e9));
-        else if (a == "--max-resolution")
-            l.maxResolution = int(integer(1, 16384));
-        else if (a == "--max-pixels")
-            l.maxPixels = integer(1, 268435456);
-        else if (a == "--max-spp")
-            l.maxSpp = int(integer(1, 1e6));
-        else if (a == "--max-photons")
-            l.maxPhotons = integer(1, 1e9);
-        else if (a == "--max-time-limit")
-            l.maxTimeLimit = number(a, value(), 1, 1e6);
-        else if (a == "--max-memory-mib")
-            l.maxMemoryMiB = number(a, value(), 1, 1e9);
-        else if (a == "--max-queued")
-            l.maxQueuedJobs = int(integer(1, 1e6));
-        else if (a == "--max-event-streams")
-            l.maxEventStreams = int(integer(1, 4096));
-        else
-            throw UsageError("unknown option " + a);
-    }
-    if (!isLoopback(c.host) && c.token.empty())
-        throw UsageError("listening on " + c.host +
-                         " exposes the service beyond this machine: give --token (or "
-                         "CAUSTIC_TOKEN) so that only holders of the token can submit jobs");
-    return c;
+// A folder option whose --help shows its default (a std::filesystem::path would show it quoted).
+CLI::Option* addFolder(CLI::App& serve, const std::string& name, std::filesystem::path& folder,
+                       const std::string& help) {
+    return serve
+        .add_option_function<std::string>(
+            name, [&folder](const std::string& dir) { folder = dir; }, help)
+        ->type_name("DIR")
+        ->default_str(folder.string());
+}
+
+void addLimits(CLI::App& limits, server::ServiceLimits& l) {
+    cli::addNumber(limits, "--max-request-bytes", l.maxRequestBytes, 1024, 1e9,
+                   "Largest request body (413 above)");
+    cli::addNumber(limits, "--max-resolution", l.maxResolution, 1, 16384, "Pixels per side");
+    cli::addNumber(limits, "--max-pixels", l.maxPixels, 1, 268435456, "Width times height");
+    cli::addNumber(limits, "--max-spp", l.maxSpp, 1, 1e6, "Samples per pixel");
+    cli::addNumber(limits, "--max-photons", l.maxPhotons, 1, 1e9,
+                   "photons and caustic_photons, per pass");
+    cli::addNumber(limits, "--max-time-limit", l.maxTimeLimit, 1, 1e6,
+                   "Seconds; a job that sets no time_limit gets this one");
+    cli::addNumber(limits, "--max-memory-mib", l.maxMemoryMiB, 1, 1e9,
+                   "Estimated peak memory of a render, MiB; caps a job's memory_limit");
+    cli::addNumber(limits, "--max-queued", l.maxQueuedJobs, 1, 1e6,
+                   "Jobs waiting to run (429 above)");
+    cli::addNumber(limits, "--max-event-streams", l.maxEventStreams, 1, 4096,
+                   "Concurrent Server-Sent Events connections");
+}
+
+void addWorkOptions(CLI::App& serve, ServerConfig& c) {
+    cli::addNumber(serve, "--workers", c.workers, 1, 64, "Jobs rendered at once");
+    cli::addNumber(serve, "--threads", c.renderThreads, 0, 1024,
+                   "Threads per render, 0 for every core");
+    cli::addNumber(serve, "--lease-seconds", c.leaseSeconds, 0.5, 3600,
+                   "A worker's lease on its job, seconds");
+    cli::addNumber(serve, "--max-stalled-leases", c.maxStalledLeases, 1, 1000,
+                   "Leases in a row that may expire before a pass finishes before the job fails; "
+                   "a server killed or stopped from outside does not count, one that dies of a "
+                   "fault does");
+    cli::addNumber(serve, "--max-attempts", c.maxAttempts, 1, 1e6,
+                   "Starts of one job, whatever stopped them, before it fails (guards against "
+                   "out-of-memory kills)");
 }
 
 }  // namespace
 
-int runServeCommand(const std::vector<std::string>& args) {
-    for (const std::string& a : args)
-        if (a == "--help" || a == "-h") {
-            std::cout << kUsage;
-            return 0;
-        }
-    ServerConfig config;
-    try {
-        config = parseArgs(args);
-    } catch (const UsageError& e) {
-        std::cerr << "caustic serve: " << e.what() << "\n" << kUsage;
-        return 2;
-    }
+CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
+    CLI::App* serve = app.add_subcommand(
+        "serve", "Runs the render service (HTTP API and web page) until SIGINT or SIGTERM.");
+    serve->add_option("--host", c.host, "Address to listen on; any but loopback needs --token")
+        ->type_name("ADDR")
+        ->capture_default_str();
+    cli::addNumber(*serve, "--port", c.port, 0, 65535, "Port; 0 picks a free one");
+    addFolder(*serve, "--data", c.dataDir, "Job store and images")->envname("CAUSTIC_DATA");
+    serve
+        ->add_option("--token", c.token,
+                     "Bearer token every POST and DELETE must carry (default: none)")
+        ->envname("CAUSTIC_TOKEN");
+    c.assetsDir = CAUSTIC_DEFAULT_ASSETS_DIR;
+    c.scenesDir = CAUSTIC_DEFAULT_SCENES_DIR;
+    c.webDir = CAUSTIC_DEFAULT_WEB_DIR;
+    addFolder(*serve, "--assets", c.assetsDir, "The folder mesh file names resolve in");
+    addFolder(*serve, "--scenes", c.scenesDir, "Example scenes, submittable by name");
+    addFolder(*serve, "--web", c.webDir, "Static files of the web page");
+    addWorkOptions(*serve, c);
+    addLimits(*serve->add_option_group("Limits (a job over one gets 422 naming the field)"),
+              c.limits);
+    serve->callback([&c] {
+        if (!isLoopback(c.host) && c.token.empty())
+            throw CLI::ValidationError(
+                "--host", "listening on " + c.host +
+                              " exposes the service beyond this machine: give --token (or "
+                              "CAUSTIC_TOKEN) so that only holders of the token can submit jobs");
+    });
+    return serve;
+}
+
+int runServe(const ServerConfig& config) {
     // SIGINT and SIGTERM are taken by one thread with sigwait, not by a handler: stopping the
     // service is not async-signal-safe. Block them before any thread starts.
     sigset_t stopSignals;

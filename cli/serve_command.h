@@ -1,12 +1,20 @@
 // `caustic serve`: runs the render service (server/) until SIGINT or SIGTERM.
 #pragma once
 
-#include <string>
-#include <vector>
+#include "server_config.h"
+
+namespace CLI {
+class App;
+}
 
 namespace caustic {
 
-/// Returns the process exit code: 0 after a clean stop, 2 for bad usage, 1 when it cannot start.
-int runServeCommand(const std::vector<std::string>& args);
+/// Adds the `serve` subcommand to `app`: its flags fill `config` (which must outlive parsing),
+/// from the defaults, environment and ranges its --help shows.
+CLI::App* addServeCommand(CLI::App& app, server::ServerConfig& config);
+
+/// Serves as `config` says. Returns the process exit code: 0 after a clean stop, 1 when it cannot
+/// start.
+int runServe(const server::ServerConfig& config);
 
 }  // namespace caustic

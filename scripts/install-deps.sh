@@ -6,6 +6,8 @@ set -euo pipefail
 packages=(
     # Toolchain
     build-essential cmake ninja-build pkg-config git
+    # Command lines (caustic, the benchmarks)
+    libcli11-dev
     # Renderer
     libglm-dev nlohmann-json3-dev libtinyobjloader-dev libopenimageio-dev openimageio-tools
     libembree-dev
