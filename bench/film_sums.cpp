@@ -17,31 +17,21 @@ namespace {
 using namespace caustic::bench;
 using caustic::Color;
 
-constexpr const char* kUsage =
-    "usage: bench_film_sums [--repeats N] [--size N] [--passes N] [--smoke]\n"
-    "  --repeats N  interleaved runs of each measurement (default 5)\n"
-    "  --size N     square image size (default 512)\n"
-    "  --passes N   passes added per run (default 64)\n"
-    "  --smoke      one run at 64x64 with 4 passes: checks that the benchmark runs\n";
-
 struct Options {
     int repeats = 5, size = 512, passes = 64;
-    bool smoke = false;
 };
 
-Options parse(const std::vector<std::string>& args) {
-    Options o;
-    forEachOption(args, o.repeats, o.smoke, [&](const std::string& a, auto value) {
-        if (a == "--size")
-            o.size = parsePositive(value(), a);
-        else if (a == "--passes")
-            o.passes = parsePositive(value(), a);
-        else
-            return false;
-        return true;
-    });
-    if (o.smoke) o = Options{1, 64, 4, true};
-    return o;
+// Parses the command line into `o`; returns -1 to run, else the exit code.
+int parseArgs(int argc, char** argv, Options& o) {
+    CLI::App app("What exact film sums cost against double sums.", "bench_film_sums");
+    bool smoke = false;
+    addCommonOptions(app, o.repeats, "Interleaved runs of each measurement", smoke,
+                     "One run at 64x64 with 4 passes");
+    caustic::cli::addNumber(app, "--size", o.size, 1, 16384, "Square image size");
+    caustic::cli::addNumber(app, "--passes", o.passes, 1, 1e6, "Passes added per run");
+    if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
+    if (smoke) o = Options{1, 64, 4};
+    return -1;
 }
 
 // Pass images with a renderer's spread: most values 0.01-10, a few fireflies up to 1e6.
@@ -81,11 +71,8 @@ double renderPassSeconds(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    int exitCode = 0;
-    std::optional<Options> options =
-        startBenchmark("bench_film_sums", kUsage, argc, argv, parse, exitCode);
-    if (!options) return exitCode;
-    const Options& o = *options;
+    Options o;
+    if (int exitCode = parseArgs(argc, argv, o); exitCode >= 0) return exitCode;
     auto passes = passImages(o);
     const size_t n = size_t(o.size) * size_t(o.size) * 3;
     std::vector<double> exactAdd, doubleAdd, exactMerge, render;
