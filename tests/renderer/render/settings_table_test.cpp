@@ -113,6 +113,9 @@ TEST(SettingsTable, DefaultsAreTheFieldsOfADefaultRenderSettings) {
     RenderSettings s = parseSettings(Json::object());
     EXPECT_EQ(s.integrator, "path");
     EXPECT_EQ(s.spp, 16);
+    EXPECT_EQ(s.sppPerPass, 0);
+    EXPECT_EQ(s.timeLimit, 0.0);
+    EXPECT_EQ(s.targetError, 0.0);
     EXPECT_EQ(s.maxDepth, 16);
     EXPECT_EQ(s.path.rrDepth, 3);
     EXPECT_TRUE(s.path.lightSampling && s.path.mis);
@@ -121,6 +124,10 @@ TEST(SettingsTable, DefaultsAreTheFieldsOfADefaultRenderSettings) {
     EXPECT_EQ(s.photon.kernel, PhotonKernel::Cone);
     EXPECT_EQ(s.photon.alpha, 2.0 / 3.0);
     EXPECT_EQ(s.accelerator, "embree");
+    EXPECT_EQ(s.seed, 0u);
+    EXPECT_EQ(s.threads, 0);
+    EXPECT_EQ(s.exposure, 0.0);
+    EXPECT_EQ(s.toJson(), RenderSettings().toJson());
     for (const std::string& name : integratorNames()) {
         SCOPED_TRACE(name);
         RenderSettings d;
@@ -134,30 +141,31 @@ TEST(SettingsTable, DefaultsAreTheFieldsOfADefaultRenderSettings) {
     }
 }
 
-// Parsing writes each setting into the field its row names (toJson reads it back from there).
+// Parsing writes each setting into the field its row names, and toJson reads it from there.
 TEST(SettingsTable, EveryRowIsBoundToItsField) {
-    RenderSettings s = parseSettings(Json{{"integrator", "ppm"},
-                                          {"spp", 100},
-                                          {"spp_per_pass", 10},
-                                          {"time_limit", 2.5},
-                                          {"target_error", 0.01},
-                                          {"max_depth", 5},
-                                          {"rr_depth", 7},
-                                          {"light_sampling", false},
-                                          {"mis", false},
-                                          {"photons", 12345},
-                                          {"caustic_photons", 678},
-                                          {"photon_lookup", "brute_force"},
-                                          {"k", 9},
-                                          {"radius", 0.25},
-                                          {"kernel", "simpson"},
-                                          {"final_gather", 3},
-                                          {"alpha", 0.5},
-                                          {"accelerator", "bruteforce"},
-                                          {"memory_limit", 512.5},
-                                          {"seed", 12345678901},
-                                          {"threads", 11},
-                                          {"exposure", -1.5}});
+    const Json asked{{"integrator", "ppm"},
+                     {"spp", 100},
+                     {"spp_per_pass", 10},
+                     {"time_limit", 2.5},
+                     {"target_error", 0.01},
+                     {"max_depth", 5},
+                     {"rr_depth", 7},
+                     {"light_sampling", false},
+                     {"mis", false},
+                     {"photons", 12345},
+                     {"caustic_photons", 678},
+                     {"photon_lookup", "brute_force"},
+                     {"k", 9},
+                     {"radius", 0.25},
+                     {"kernel", "simpson"},
+                     {"final_gather", 3},
+                     {"alpha", 0.5},
+                     {"accelerator", "bruteforce"},
+                     {"memory_limit", 512.5},
+                     {"seed", 12345678901},
+                     {"threads", 11},
+                     {"exposure", -1.5}};
+    RenderSettings s = parseSettings(asked);
     EXPECT_EQ(s.integrator, "ppm");
     EXPECT_EQ(s.spp, 100);
     EXPECT_EQ(s.sppPerPass, 10);
@@ -181,6 +189,21 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
     EXPECT_EQ(s.threads, 11);
     EXPECT_EQ(s.exposure, -1.5);
     EXPECT_EQ(parseSettings(Json{{"kernel", "box"}}).photon.kernel, PhotonKernel::Box);
+    // Read back, for the integrators that list them.
+    for (const char* name : {"ppm", "path"}) {
+        s.integrator = name;
+        Json expected = asked;
+        expected["integrator"] = name;
+        for (const SettingSpec& row : settingSpecs())
+            if (!row.readBy(name)) expected.erase(row.name);
+        EXPECT_EQ(s.toJson(), expected) << name;
+    }
+    // light_sampling and mis apart (both off above).
+    RenderSettings lightOnly = parseSettings(Json{{"light_sampling", true}, {"mis", false}});
+    EXPECT_TRUE(lightOnly.path.lightSampling);
+    EXPECT_FALSE(lightOnly.path.mis);
+    EXPECT_EQ(lightOnly.toJson()["mis"], false);
+    EXPECT_EQ(lightOnly.toJson()["light_sampling"], true);
 }
 
 TEST(SettingsJson, EachIntegratorListsTheGeneralSettingsAndWhatItReads) {
