@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
     settings.integrator = "photon";
     settings.spp = opt.spp;
     settings.sppPerPass = opt.spp;  // one pass: one photon tracing, one pair of maps
-    settings.k = 50;
+    settings.photon.k = 50;
     settings.seed = 0;
     settings.threads = threads;
 
@@ -140,23 +140,23 @@ int main(int argc, char** argv) {
         auto scene = caustic::loadScene(doc, caustic::SceneOptions{CAUSTIC_DEFAULT_ASSETS_DIR});
 
         // One untimed warm-up (page faults, OpenMP thread pool).
-        settings.photons = opt.photons.front();
-        settings.photonLookup = "kdtree";
+        settings.photon.photons = uint64_t(opt.photons.front());
+        settings.photon.lookup = caustic::PhotonLookup::KdTree;
         caustic::render(*scene, settings);
 
         for (int64_t photons : opt.photons) {
             CountResult r{photons, 0, 0, {}, {}};
             countStored(*scene, settings, r);
-            settings.photons = photons;
+            settings.photon.photons = uint64_t(photons);
             // Interleave kd-tree and brute force; the kd-tree's remaining renders come last.
             std::vector<float> reference;
             for (int rep = 0; rep < std::max(opt.repeats, opt.bruteRepeats); ++rep) {
                 if (rep < opt.repeats) {
-                    settings.photonLookup = "kdtree";
+                    settings.photon.lookup = caustic::PhotonLookup::KdTree;
                     r.kdtree.add(caustic::render(*scene, settings), reference);
                 }
                 if (rep < opt.bruteRepeats) {
-                    settings.photonLookup = "brute_force";
+                    settings.photon.lookup = caustic::PhotonLookup::BruteForce;
                     r.brute.add(caustic::render(*scene, settings), reference);
                 }
             }

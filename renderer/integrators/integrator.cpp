@@ -50,38 +50,12 @@ std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerat
                                              const RenderSettings& settings) {
     const std::string& name = settings.integrator;
     if (name == "raycast") return std::make_unique<RayCastIntegrator>(scene, accel);
-    if (name == "whitted")
-        return std::make_unique<WhittedIntegrator>(scene, accel, settings.maxDepth);
+    if (name == "whitted") return std::make_unique<WhittedIntegrator>(scene, accel, settings);
     if (name == "path")
-        return std::make_unique<PathIntegrator>(
-            scene, accel,
-            PathIntegrator::Options{settings.maxDepth, settings.rrDepth, settings.lightSampling,
-                                    settings.mis});
-    if (name == "photon" || name == "ppm") {
-        PhotonIntegrator::Options o;
-        o.photons = uint64_t(settings.photons);
-        o.causticPhotons = uint64_t(settings.causticPhotons);
-        o.lookup =
-            settings.photonLookup == "kdtree" ? PhotonLookup::KdTree : PhotonLookup::BruteForce;
-        o.estimate.k = settings.k;
-        o.estimate.radius = float(settings.radius);
-        o.estimate.kernel = settings.kernel == "box"    ? PhotonKernel::Box
-                            : settings.kernel == "cone" ? PhotonKernel::Cone
-                                                        : PhotonKernel::Simpson;
-        o.finalGather = settings.finalGather;
-        o.maxDepth = settings.maxDepth;
-        o.seed = settings.seed;
-        o.threads = settings.threads;
-        if (name == "ppm") {
-            o.progressive = true;
-            o.alpha = float(settings.alpha);
-            o.finalGather = 0;
-            // Without a radius, start from 1/500 of the scene's diagonal.
-            if (!(o.estimate.radius > 0.0f))
-                o.estimate.radius = 0.002f * glm::length(accel.bounds().hi - accel.bounds().lo);
-        }
-        return std::make_unique<PhotonIntegrator>(scene, accel, o);
-    }
+        return std::make_unique<PathIntegrator>(scene, accel, settings, settings.path);
+    if (name == "photon" || name == "ppm")
+        return std::make_unique<PhotonIntegrator>(scene, accel, settings, settings.photon,
+                                                  /*progressive=*/name == "ppm");
     std::string valid;
     for (const std::string& n : integratorNames()) valid += (valid.empty() ? "" : ", ") + n;
     throw InputError("/settings/integrator",

@@ -18,6 +18,15 @@ namespace caustic {
 
 struct RenderSettings;
 
+/// The general render settings that integrators read, as Tungsten's TraceSettings: path length,
+/// and the seed and threads of an integrator's own per-pass work (photon tracing). RenderSettings
+/// derives from it, so each is stored once; integrators take it beside their own Settings.
+struct TraceSettings {
+    int maxDepth = 16;  ///< Most scattering events on a path (1: direct light only).
+    uint64_t seed = 0;  ///< Same scene, settings and seed: the same image.
+    int threads = 0;    ///< Worker threads; 0 uses every core.
+};
+
 /// What one pixel sample carries through an integrator: its random numbers and its counters.
 /// One per thread, re-seeded per sample; never shared.
 struct SampleContext {
@@ -86,8 +95,9 @@ protected:
 /// The integrator names `createIntegrator` accepts.
 const std::vector<std::string>& integratorNames();
 
-/// Creates the integrator `settings.integrator` for a scene and accelerator that outlive it.
-/// Throws InputError (path "/settings/integrator") for an unknown name, listing the valid ones.
+/// Creates the integrator `settings.integrator`, with its own settings, for a scene and
+/// accelerator that outlive it. Throws InputError (path "/settings/integrator") for an unknown
+/// name, listing the valid ones.
 std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerator& accel,
                                              const RenderSettings& settings);
 

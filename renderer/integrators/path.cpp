@@ -7,9 +7,9 @@ namespace caustic {
 float PathIntegrator::emissionWeight(const LightSampleContext& from, float bsdfPdf,
                                      const SurfaceInteraction& at) const {
     // Without light sampling only the BSDF finds emitters.
-    if (!options_.lightSampling) return 1.0f;
+    if (!settings_.lightSampling) return 1.0f;
     // Light sampling alone accounts for emitters seen from non-specular vertices.
-    if (!options_.mis) return 0.0f;
+    if (!settings_.mis) return 0.0f;
     std::optional<SampledLight> light = scene_.areaLightOf(at.prim);
     if (!light) return 1.0f;
     return powerHeuristic(bsdfPdf, light->pmf * light->light->pdfLi(from, at));
@@ -45,9 +45,9 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
                 L += beta * Le * w;
             }
         }
-        if (depth >= options_.maxDepth) break;
+        if (depth >= maxDepth_) break;
 
-        if (options_.lightSampling) L += beta * sampleDirectLight(si, wo, m, ctx, options_.mis);
+        if (settings_.lightSampling) L += beta * sampleDirectLight(si, wo, m, ctx, settings_.mis);
 
         float uc = ctx.rng.uniform();
         Vec2 u = ctx.rng.uniform2();
@@ -62,7 +62,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
 
         // Russian roulette: continue with the probability of the throughput, then divide it out,
         // so that a path's weight stays near 1 (pbrt-v4 13.4.3).
-        if (depth + 1 >= options_.rrDepth) {
+        if (depth + 1 >= settings_.rrDepth) {
             float q = maxComponent(beta) * etaScale;
             if (q < 1.0f) {
                 if (ctx.rng.uniform() >= q) break;

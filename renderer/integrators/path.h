@@ -12,15 +12,17 @@ namespace caustic {
 
 class PathIntegrator final : public Integrator {
 public:
-    struct Options {
-        int maxDepth = 16;  ///< Most scattering events on a path; 1 is direct lighting only.
-        int rrDepth = 3;    ///< Bounces before Russian roulette may end a path.
-        bool lightSampling = true;
-        bool mis = true;
+    /// Its own settings (render/settings_table.cpp declares their names, ranges and docs); it
+    /// also reads TraceSettings::maxDepth.
+    struct Settings {
+        int rrDepth = 3;            ///< Bounces before Russian roulette may end a path.
+        bool lightSampling = true;  ///< Next-event estimation at non-specular vertices.
+        bool mis = true;            ///< Power-heuristic weights for light and BSDF samples.
     };
 
-    PathIntegrator(const Scene& scene, const Accelerator& accel, const Options& options)
-        : Integrator(scene, accel), options_(options) {}
+    PathIntegrator(const Scene& scene, const Accelerator& accel, const TraceSettings& trace,
+                   const Settings& settings)
+        : Integrator(scene, accel), maxDepth_(trace.maxDepth), settings_(settings) {}
     Color Li(const Ray& ray, SampleContext& ctx) const override;
 
 private:
@@ -29,7 +31,8 @@ private:
     float emissionWeight(const LightSampleContext& from, float bsdfPdf,
                          const SurfaceInteraction& at) const;
 
-    Options options_;
+    int maxDepth_;
+    Settings settings_;
 };
 
 }  // namespace caustic

@@ -12,22 +12,38 @@ float PhotonIntegrator::progressiveRadius(float r0, float alpha, uint32_t pass) 
     return float(std::sqrt(r2));
 }
 
+PhotonIntegrator::PhotonIntegrator(const Scene& scene, const Accelerator& accel,
+                                   const TraceSettings& trace, const Settings& settings,
+                                   bool progressive)
+    : Integrator(scene, accel),
+      trace_(trace),
+      settings_(settings),
+      progressive_(progressive),
+      estimate_{settings.k, float(settings.radius), settings.kernel} {
+    if (!progressive_) return;
+    // ppm estimates at the visible point only, with a radius that shrinks per pass; without a
+    // radius it starts from 1/500 of the scene's diagonal.
+    settings_.finalGather = 0;
+    if (!(estimate_.radius > 0.0f))
+        estimate_.radius = 0.002f * glm::length(accel.bounds().hi - accel.bounds().lo);
+}
+
 PhotonTracingOptions PhotonIntegrator::tracingOptions(uint32_t pass, bool causticOnly) const {
     PhotonTracingOptions o;
-    o.photons = causticOnly ? options_.causticPhotons : options_.photons;
-    o.maxDepth = options_.maxDepth;
-    o.seed = options_.seed;
+    o.photons = causticOnly ? settings_.causticPhotons : settings_.photons;
+    o.maxDepth = trace_.maxDepth;
+    o.seed = trace_.seed;
     o.pass = pass;
-    o.threads = options_.threads;
+    o.threads = trace_.threads;
     o.causticOnly = causticOnly;
     o.interrupt = interrupt_;
     return o;
 }
 
 uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
-    passEstimate_ = options_.estimate;
-    if (options_.progressive)
-        passEstimate_.radius = progressiveRadius(options_.estimate.radius, options_.alpha, pass);
+    passEstimate_ = estimate_;
+    if (progressive_)
+        passEstimate_.radius = progressiveRadius(estimate_.radius, float(settings_.alpha), pass);
     // Free the previous pass's maps first (peak memory: one pass's tracing and maps).
     global_.reset();
     caustic_.reset();
@@ -35,7 +51,7 @@ uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
     uint64_t rays = traced.rays;
     if (traced.interrupted) return rays;  // the caller abandons the pass
     std::vector<Photon> caustics;
-    if (options_.causticPhotons > 0) {
+    if (settings_.causticPhotons > 0) {
         PhotonTracing c = tracePhotons(scene_, accel_, tracingOptions(pass, true));
         rays += c.rays;
         if (c.interrupted) return rays;
@@ -47,8 +63,8 @@ uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
         for (const Photon& p : traced.photons)
             if (p.path == PhotonPath::Caustic) caustics.push_back(p);
     }
-    global_ = std::make_unique<PhotonMap>(std::move(traced.photons), options_.lookup);
-    caustic_ = std::make_unique<PhotonMap>(std::move(caustics), options_.lookup);
+    global_ = std::make_unique<PhotonMap>(std::move(traced.photons), settings_.lookup);
+    caustic_ = std::make_unique<PhotonMap>(std::move(caustics), settings_.lookup);
     return rays;
 }
 
@@ -65,10 +81,10 @@ size_t PhotonIntegrator::estimatedPeakBytes() const {
         return std::pair{double(pilot.photons.size()) / paths, double(caustics) / paths};
     };
     const auto [all, caustic] = storedPerPath(false);
-    double stored = double(options_.photons) * all;
-    stored += options_.causticPhotons > 0
-                  ? double(options_.causticPhotons) * storedPerPath(true).first
-                  : double(options_.photons) * caustic;
+    double stored = double(settings_.photons) * all;
+    stored += settings_.causticPhotons > 0
+                  ? double(settings_.causticPhotons) * storedPerPath(true).first
+                  : double(settings_.photons) * caustic;
     // Tracing holds each photon twice while it joins the chunks (80 bytes); a map then holds 40
     // bytes a photon, 16 in the tree and 12 of positions while it builds. A 10% margin covers the
     // pilot's sampling error.
@@ -79,7 +95,7 @@ void PhotonIntegrator::checkMemory(size_t budgetBytes) const {
     size_t need = estimatedPeakBytes();
     if (need <= budgetBytes) return;
     auto mib = [](size_t b) { return std::to_string((b + (1u << 20) - 1) >> 20) + " MiB"; };
-    bool caustics = options_.causticPhotons > options_.photons;
+    bool caustics = settings_.causticPhotons > settings_.photons;
     throw InputError(caustics ? "/settings/caustic_photons" : "/settings/photons",
                      "the photon maps of a pass would need about " + mib(need) +
                          " (estimated from a pilot tracing), more than the " + mib(budgetBytes) +
@@ -94,7 +110,7 @@ std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Co
                                                                     bool& escaped,
                                                                     SampleContext& ctx) const {
     escaped = false;
-    for (int depth = 0; depth <= options_.maxDepth; ++depth) {
+    for (int depth = 0; depth <= trace_.maxDepth; ++depth) {
         if (ctx.interrupted()) return std::nullopt;
         std::optional<Hit> hit = intersect(ray, ctx);
         if (!hit) {
@@ -117,7 +133,7 @@ std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Co
 Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, const Material& m,
                                SampleContext& ctx, std::vector<Neighbor>& scratch) const {
     Color sum(0.0f);
-    for (int g = 0; g < options_.finalGather; ++g) {
+    for (int g = 0; g < settings_.finalGather; ++g) {
         float uc = ctx.rng.uniform();
         Vec2 u = ctx.rng.uniform2();
         std::optional<BsdfSample> bs = m.sample(wo, x.n, uc, u, TransportMode::Radiance);
@@ -131,7 +147,7 @@ Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, cons
         const Material& my = *scene_.materials[y->material];
         sum += beta * global_->reflected(*y, -ray.d, my, passEstimate_, kAllPhotonPaths, scratch);
     }
-    return sum / float(options_.finalGather);
+    return sum / float(settings_.finalGather);
 }
 
 Color PhotonIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
@@ -146,7 +162,7 @@ Color PhotonIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
     thread_local std::vector<Neighbor> scratch;
     Color L = m.Le(wo, x->n) + sampleDirectLight(*x, wo, m, ctx);
     L += caustic_->reflected(*x, wo, m, passEstimate_, kAllPhotonPaths, scratch);
-    if (options_.finalGather > 0)
+    if (settings_.finalGather > 0)
         L += gather(*x, wo, m, ctx, scratch);
     else
         L += global_->reflected(*x, wo, m, passEstimate_, maskOf(PhotonPath::Indirect), scratch);

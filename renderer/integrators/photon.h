@@ -24,24 +24,26 @@ namespace caustic {
 
 class PhotonIntegrator final : public Integrator {
 public:
-    struct Options {
-        uint64_t photons = 200000;
+    /// Its own settings (render/settings_table.cpp declares their names, ranges and docs); it
+    /// also reads TraceSettings (max_depth; seed and threads for photon tracing).
+    struct Settings {
+        uint64_t photons = 200000;    ///< Photon paths traced per pass.
         uint64_t causticPhotons = 0;  ///< Paths for the caustic map; 0 takes those of `photons`.
         PhotonLookup lookup = PhotonLookup::KdTree;
-        PhotonEstimate estimate;
-        int finalGather = 0;  ///< Gather rays per camera path; 0 looks up the global map at x.
-        int maxDepth = 16;
-        uint64_t seed = 0;
-        int threads = 0;
-        bool progressive = false;  ///< ppm: radius per pass from estimate.radius and alpha.
-        float alpha = 2.0f / 3.0f;
+        int k = 50;         ///< Photons per density estimate, when radius is 0.
+        double radius = 0;  ///< Fixed search radius, 0 for the k nearest; ppm: the first pass's.
+        PhotonKernel kernel = PhotonKernel::Cone;
+        int finalGather = 0;       ///< Gather rays per camera path; 0 looks up the global map at x.
+        double alpha = 2.0 / 3.0;  ///< ppm: the radius reduction per pass.
     };
 
     /// The radius of pass `pass` for initial radius r0 (Knaus & Zwicker 2011, eq. 20).
     static float progressiveRadius(float r0, float alpha, uint32_t pass);
 
-    PhotonIntegrator(const Scene& scene, const Accelerator& accel, const Options& options)
-        : Integrator(scene, accel), options_(options) {}
+    /// `progressive` makes it ppm: the radius shrinks per pass (from 1/500 of the scene's
+    /// diagonal when settings.radius is 0), and final gathering is off.
+    PhotonIntegrator(const Scene& scene, const Accelerator& accel, const TraceSettings& trace,
+                     const Settings& settings, bool progressive = false);
 
     uint64_t beginPass(uint32_t pass) override;
     Color Li(const Ray& ray, SampleContext& ctx) const override;
@@ -63,7 +65,10 @@ private:
     Color gather(const SurfaceInteraction& x, const Vec3& wo, const Material& m, SampleContext& ctx,
                  std::vector<Neighbor>& scratch) const;
 
-    Options options_;
+    TraceSettings trace_;
+    Settings settings_;
+    bool progressive_;
+    PhotonEstimate estimate_;      // k, kernel and the first pass's radius
     PhotonEstimate passEstimate_;  // this pass's estimate settings (the radius changes for ppm)
     std::unique_ptr<PhotonMap> global_;
     std::unique_ptr<PhotonMap> caustic_;

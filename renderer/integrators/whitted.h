@@ -10,8 +10,9 @@ namespace caustic {
 
 class WhittedIntegrator final : public Integrator {
 public:
-    WhittedIntegrator(const Scene& scene, const Accelerator& accel, int maxDepth)
-        : Integrator(scene, accel), maxDepth_(maxDepth) {}
+    /// Whitted reads no settings of its own: only TraceSettings::maxDepth, its recursion depth.
+    WhittedIntegrator(const Scene& scene, const Accelerator& accel, const TraceSettings& settings)
+        : Integrator(scene, accel), maxDepth_(settings.maxDepth) {}
     Color Li(const Ray& ray, SampleContext& ctx) const override;
 
 private:

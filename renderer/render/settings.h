@@ -1,62 +1,77 @@
-// Render settings: one table describes every setting (type, default, range, unit, which integrators
-// read it), and every reader (scene files, the CLI's --set, the server, the web page) goes through
-// it.
+// Render settings. One table (render/settings_table.cpp) declares every setting once: its name,
+// the field it is stored in, range, unit, the integrators that read it and its doc; the type and
+// default come from the field. Parsing (scene files, the CLI's --set, the server), defaults, JSON
+// output, the schema behind /api/settings, `caustic settings` and the web form all derive from it.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "integrators/integrator.h"
+#include "integrators/path.h"
+#include "integrators/photon.h"
+
 namespace caustic {
 
 using Json = nlohmann::json;
 
-/// The validated settings of one render. Field names follow the JSON keys.
-struct RenderSettings {
+/// The validated settings of one render: the general ones (TraceSettings holds maxDepth, seed and
+/// threads, which integrators read too), then each integrator's own Settings.
+struct RenderSettings : TraceSettings {
     std::string integrator = "path";
-    int spp = 16;                ///< Samples per pixel: the most the render takes.
-    int sppPerPass = 0;          ///< Samples per pixel in each pass; 0 chooses automatically.
-    double timeLimit = 0;        ///< Seconds; 0 for none.
-    double targetError = 0;      ///< Relative RMS error to stop at; 0 for none.
-    int maxDepth = 16;           ///< Most bounces on a path (scattering events); Whitted recursion.
-    int rrDepth = 3;             ///< Path tracing: bounces before Russian roulette may end a path.
-    bool lightSampling = true;   ///< Path tracing: next-event estimation.
-    bool mis = true;             ///< Path tracing: power-heuristic MIS of light and BSDF samples.
-    int64_t photons = 200000;    ///< Photon mapping: photon paths traced per pass.
-    int64_t causticPhotons = 0;  ///< Photon mapping: caustic-map paths per pass; 0 shares.
-    std::string photonLookup = "kdtree";  ///< Photon mapping: "kdtree" or "brute_force".
-    int k = 50;                           ///< Photon mapping: photons per density estimate.
-    double radius = 0;            ///< Photon mapping: fixed search radius; 0 uses the k nearest.
-    std::string kernel = "cone";  ///< Photon mapping: density-estimation kernel.
-    int finalGather = 0;          ///< Photon mapping: final-gather rays per camera path.
-    double alpha = 2.0 / 3.0;     ///< Progressive photon mapping: radius reduction per pass.
+    int spp = 16;                        ///< Samples per pixel: the most the render takes.
+    int sppPerPass = 0;                  ///< Samples per pixel in each pass; 0 chooses.
+    double timeLimit = 0;                ///< Seconds; 0 for none.
+    double targetError = 0;              ///< Relative RMS error to stop at; 0 for none.
     std::string accelerator = "embree";  // the fastest of the three today
     double memoryLimit = 0;              ///< MiB; 0 for half the machine's physical memory.
-    uint64_t seed = 0;
-    int threads = 0;      ///< 0 uses every core.
-    double exposure = 0;  ///< Stops (powers of two) applied to PNG output.
+    double exposure = 0;                 ///< Stops (powers of two) applied to PNG output.
+    PathIntegrator::Settings path;       ///< What `path` reads besides TraceSettings.
+    PhotonIntegrator::Settings photon;   ///< What `photon` and `ppm` read besides TraceSettings.
 
     /// Samples per pass after resolving 0: the largest divisor of spp no greater than spp / 64, so
     /// that a render has about 64 equal passes (every pass when spp < 64).
     int resolvedSppPerPass() const;
     /// memory_limit in bytes, with 0 resolved to half the physical memory.
     size_t memoryLimitBytes() const;
+    /// The general settings and those `integrator` reads, by JSON name; parseSettings takes it
+    /// back.
     Json toJson() const;
 };
 
 enum class SettingType { Integer, Number, Boolean, String };
 
+/// Binds a setting to its RenderSettings field (made by the table's `field`). `choices` are the
+/// row's: an enum field is stored as the index of its name in them.
+struct SettingField {
+    SettingType type = SettingType::Integer;
+    std::function<Json(const RenderSettings&, const std::vector<std::string>& choices)> get{};
+    /// Stores a value that validation accepted (an integer, number, boolean or valid choice).
+    std::function<void(RenderSettings&, const Json&, const std::vector<std::string>& choices)>
+        set{};
+};
+
+/// One row of the table. `type` and `defaultValue` are derived from `field` (its C++ type, and
+/// its value in a default RenderSettings); the rest is written in the row. Every member has a
+/// default initializer, so that a row names only what it sets (GCC 12 warns of omitted
+/// designated initializers otherwise).
 struct SettingSpec {
-    std::string name;
-    SettingType type;
-    Json defaultValue;
-    double min = 0, max = 0;           ///< Inclusive range for numbers.
-    std::vector<std::string> choices;  ///< Valid values for strings.
-    std::string unit;
-    std::string description;
-    std::vector<std::string> integrators;  ///< Integrators that read it; empty for all.
+    std::string name{};
+    SettingField field{};
+    SettingType type = SettingType::Integer;
+    Json defaultValue{};
+    double min = 0, max = 0;             ///< Inclusive range for numbers.
+    std::vector<std::string> choices{};  ///< Valid values for strings.
+    std::string unit{};
+    std::vector<std::string> integrators{};  ///< Integrators that read it; empty for all.
+    std::string description{};
+
+    /// Whether `integrator` (a name) reads it.
+    bool readBy(const std::string& integrator) const;
 };
 
 /// Every setting, in documentation order.
@@ -67,7 +82,8 @@ Json settingsSchemaJson();
 
 /// Overlays `overrides` on `defaults` (both objects of settings), key by key.
 Json mergeSettings(const Json& defaults, const Json& overrides);
-/// Validates a settings object against the table and fills RenderSettings. Unknown keys, wrong
+/// Validates a settings object against the table and fills RenderSettings. Every setting is
+/// accepted whichever the integrator (a scene's defaults may serve several). Unknown keys, wrong
 /// types, and values out of range are InputErrors with the path `path`/key.
 RenderSettings parseSettings(const Json& settings, const std::string& path = "/settings");
 /// Parses the value of a command-line `key=value`: JSON when it parses as JSON, else a string.

@@ -101,10 +101,14 @@ def test_submit_example_scene_by_name(server):
     assert job["state"] == "queued"
     assert job["scene_name"] == "cornell-box"
     assert job["created_at"].endswith("Z") and job["finished_at"] is None
-    # The stored settings are complete: every setting, the request's over the scene's own, and
+    # The stored settings are complete for the job's integrator: the general settings and every
+    # one it reads (a path job lists no photon setting), the request's over the scene's own, and
     # the server's time limit for a job that sets none.
     settings = server.get("/api/settings").json()
-    assert set(job["settings"]) == set(settings)
+    assert job["settings"]["integrator"] == "path"
+    assert set(job["settings"]) == {name for name, s in settings.items()
+                                    if not s["integrators"] or "path" in s["integrators"]}
+    assert "rr_depth" in job["settings"] and "photons" not in job["settings"]
     assert job["settings"]["spp"] == 1
     assert job["settings"]["time_limit"] == 3600
     assert job["links"]["cancel"] == f"/api/jobs/{job['id']}/cancel"

@@ -9,7 +9,6 @@ import {h} from './format.js';
 const STOP = ['spp', 'time_limit', 'target_error', 'spp_per_pass'];
 const ORDER = ['max_depth', 'rr_depth', 'light_sampling', 'mis', 'photons', 'caustic_photons', 'k',
   'radius', 'kernel', 'alpha', 'final_gather', 'photon_lookup'];
-const GENERAL_OPTIONS = ['max_depth'];  // read by every integrator, but an integrator's option
 
 const byOrder = list => (a, b) => {
   const ia = list.indexOf(a), ib = list.indexOf(b);
@@ -24,8 +23,8 @@ export class SettingsForm {
     this.container = container;
     this.fields = new Map();  // name -> {wrap, input, error, spec}
     const names = Object.keys(schema);
-    const specific = n => schema[n].integrators.length > 0 || GENERAL_OPTIONS.includes(n);
-    const options = names.filter(n => n !== 'integrator' && specific(n)).sort(byOrder(ORDER));
+    const options = names.filter(n => n !== 'integrator' && schema[n].integrators.length > 0)
+      .sort(byOrder(ORDER));
     const stop = STOP.filter(n => n in schema);
     const accel = names.filter(n => n === 'accelerator');
     const rest = names.filter(n => n !== 'integrator' && !options.includes(n) && !stop.includes(n) &&

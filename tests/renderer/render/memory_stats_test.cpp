@@ -97,10 +97,8 @@ TEST(MemoryStats, PhotonEstimateBoundsWhatAPassHolds) {
     auto scene = sceneFromJson(exampleScene("cornell-spheres", kWidth, kHeight));
     auto accel = createAccelerator("embree", scene->geometry);
     for (uint64_t caustic : {uint64_t(0), uint64_t(50000)}) {
-        PhotonIntegrator::Options o;
-        o.photons = 50000;
-        o.causticPhotons = caustic;
-        PhotonIntegrator integrator(*scene, *accel, o);
+        PhotonIntegrator integrator(*scene, *accel, TraceSettings{},
+                                    {.photons = 50000, .causticPhotons = caustic});
         const size_t estimate = integrator.estimatedPeakBytes();
         integrator.beginPass(0);
         // The maps held after the pass (56 bytes a photon) fit under the peak estimate (80 bytes

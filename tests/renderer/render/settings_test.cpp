@@ -1,5 +1,5 @@
-// Render settings: defaults, the spec table, JSON round trips, exact error messages, merging,
-// command-line values, and the automatic samples per pass.
+// Render settings: exact error messages, merging, command-line values, and the automatic samples
+// per pass. settings_table_test.cpp checks the table, defaults and JSON round trips.
 #include "render/settings.h"
 
 #include <algorithm>
@@ -44,100 +44,6 @@ void expectSettingsError(const Json& settings, const std::string& path,
         SCOPED_TRACE(Json(settings).dump());            \
         expectSettingsError((settings), path, message); \
     } while (0)
-
-// Settings that differ from the defaults in every field the struct has today.
-RenderSettings nonDefaultSettings() {
-    RenderSettings s;
-    for (const std::string& name : integratorNames())
-        if (name != s.integrator) s.integrator = name;
-    s.spp = 100;
-    s.sppPerPass = 10;
-    s.timeLimit = 2.5;
-    s.targetError = 0.01;
-    s.maxDepth = 5;
-    s.rrDepth = 7;
-    s.lightSampling = false;
-    s.mis = false;
-    s.photons = 12345;
-    s.k = 7;
-    s.radius = 0.25;
-    s.kernel = "simpson";
-    s.finalGather = 3;
-    s.alpha = 0.5;
-    s.accelerator = acceleratorNames().back();
-    s.seed = 12345678901;
-    s.threads = 3;
-    s.exposure = -1.5;
-    return s;
-}
-
-TEST(SettingsDefaults, EmptyObjectGivesTheDefaults) {
-    RenderSettings s = parseSettings(Json::object());
-    EXPECT_EQ(s.integrator, "path");
-    EXPECT_EQ(s.spp, 16);
-    EXPECT_EQ(s.sppPerPass, 0);
-    EXPECT_EQ(s.timeLimit, 0.0);
-    EXPECT_EQ(s.targetError, 0.0);
-    EXPECT_EQ(s.maxDepth, 16);
-    EXPECT_EQ(s.rrDepth, 3);
-    EXPECT_TRUE(s.lightSampling);
-    EXPECT_TRUE(s.mis);
-    EXPECT_EQ(s.accelerator, "embree");
-    EXPECT_EQ(s.seed, 0u);
-    EXPECT_EQ(s.threads, 0);
-    EXPECT_EQ(s.exposure, 0.0);
-    EXPECT_EQ(s.toJson(), RenderSettings().toJson());
-}
-
-TEST(SettingsSpecs, TableMatchesTheStruct) {
-    Json defaults = RenderSettings().toJson();
-    ASSERT_EQ(defaults.size(), settingSpecs().size());
-    for (const SettingSpec& spec : settingSpecs()) {
-        SCOPED_TRACE(spec.name);
-        ASSERT_TRUE(defaults.contains(spec.name));
-        EXPECT_EQ(spec.defaultValue, defaults[spec.name]);
-        EXPECT_FALSE(spec.description.empty());
-        if (spec.type == SettingType::Integer || spec.type == SettingType::Number) {
-            EXPECT_LE(spec.min, spec.defaultValue.get<double>());
-            EXPECT_GE(spec.max, spec.defaultValue.get<double>());
-        }
-        if (spec.type == SettingType::String) {
-            ASSERT_FALSE(spec.choices.empty());
-            EXPECT_NE(std::find(spec.choices.begin(), spec.choices.end(),
-                                spec.defaultValue.get<std::string>()),
-                      spec.choices.end());
-        }
-    }
-    Json schema = settingsSchemaJson();
-    EXPECT_EQ(schema.size(), settingSpecs().size());
-    EXPECT_EQ(schema["spp"]["type"], "integer");
-    EXPECT_EQ(schema["spp"]["minimum"], 1.0);
-    EXPECT_EQ(schema["spp"]["maximum"], 1e6);
-    EXPECT_EQ(schema["integrator"]["enum"], Json(integratorNames()));
-}
-
-TEST(SettingsRoundTrip, WholeObject) {
-    RenderSettings s = nonDefaultSettings();
-    Json j = s.toJson();
-    EXPECT_EQ(parseSettings(j).toJson(), j);
-    // And through JSON text.
-    EXPECT_EQ(parseSettings(Json::parse(j.dump())).toJson(), j);
-}
-
-TEST(SettingsRoundTrip, EveryKeyAlone) {
-    Json nonDefault = nonDefaultSettings().toJson();
-    for (const SettingSpec& spec : settingSpecs()) {
-        SCOPED_TRACE(spec.name);
-        ASSERT_TRUE(nonDefault.contains(spec.name));
-        Json one{{spec.name, nonDefault[spec.name]}};
-        Json parsed = parseSettings(one).toJson();
-        EXPECT_EQ(parsed[spec.name], nonDefault[spec.name]);
-        // Every other key keeps its default.
-        Json expected = RenderSettings().toJson();
-        expected[spec.name] = nonDefault[spec.name];
-        EXPECT_EQ(parsed, expected);
-    }
-}
 
 TEST(SettingsErrors, UnknownSettingListsValidOnes) {
     EXPECT_SETTINGS_ERROR((Json{{"samples", 16}}), "/settings/samples",

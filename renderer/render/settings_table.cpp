@@ -1,0 +1,249 @@
+// The settings table: each render setting declared once, as a row naming the field that stores it.
+// A new setting is a field (its C++ type and default) and a row here; parsing, JSON output, the
+// schema, `caustic settings`, the CLI's --set and the web form follow from them.
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <type_traits>
+
+#include "accel/accelerator.h"
+#include "render/settings.h"
+
+namespace caustic {
+namespace {
+
+template <class T>
+constexpr SettingType settingTypeOf() {
+    static_assert(std::is_arithmetic_v<T> || std::is_enum_v<T> || std::is_same_v<T, std::string>,
+                  "a setting is a number, a boolean, a string or an enum");
+    if constexpr (std::is_same_v<T, bool>)
+        return SettingType::Boolean;
+    else if constexpr (std::is_integral_v<T>)
+        return SettingType::Integer;
+    else if constexpr (std::is_floating_point_v<T>)
+        return SettingType::Number;
+    else
+        return SettingType::String;
+}
+
+// The member that a chain of member pointers leads to: s.*m, then .*ms in turn.
+template <class S, class M, class... Ms>
+auto& member(S& s, M m, Ms... ms) {
+    if constexpr (sizeof...(Ms) == 0)
+        return s.*m;
+    else
+        return member(s.*m, ms...);
+}
+
+// The binding of the field that `members` lead to from a RenderSettings (`&R::spp`, or
+// `&R::path, &PathIntegrator::Settings::mis`). Integers are read as int64 and numbers as double,
+// as validation returns them; an enum is its name in the row's choices.
+template <class... Members>
+SettingField field(Members... members) {
+    using T = std::remove_cvref_t<decltype(member(std::declval<RenderSettings&>(), members...))>;
+    SettingField f;
+    f.type = settingTypeOf<T>();
+    f.get = [=](const RenderSettings& s, const std::vector<std::string>& choices) -> Json {
+        const T& v = member(s, members...);
+        if constexpr (std::is_enum_v<T>)
+            return choices.at(size_t(v));
+        else if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::string>)
+            return v;
+        else if constexpr (std::is_integral_v<T>)
+            return int64_t(v);
+        else
+            return double(v);
+    };
+    f.set = [=](RenderSettings& s, const Json& v, const std::vector<std::string>& choices) {
+        T& out = member(s, members...);
+        if constexpr (std::is_enum_v<T>)
+            out = T(std::find(choices.begin(), choices.end(), v.get<std::string>()) -
+                    choices.begin());
+        else if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::string>)
+            out = v.get<T>();
+        else if constexpr (std::is_integral_v<T>)
+            out = static_cast<T>(v.get<int64_t>());
+        else
+            out = static_cast<T>(v.get<double>());
+    };
+    return f;
+}
+
+std::vector<SettingSpec> rows() {
+    using R = RenderSettings;
+    using Path = PathIntegrator::Settings;
+    using Photon = PhotonIntegrator::Settings;
+    const std::vector<std::string> tracers = {"whitted", "path", "photon", "ppm"};
+    const std::vector<std::string> photonMappers = {"photon", "ppm"};
+    return {
+        {.name = "integrator",
+         .field = field(&R::integrator),
+         .choices = integratorNames(),
+         .description = "Light transport algorithm."},
+        {.name = "spp",
+         .field = field(&R::spp),
+         .min = 1,
+         .max = 1e6,
+         .unit = "samples/pixel",
+         .description = "Samples per pixel; the render stops when it has taken them all."},
+        {.name = "spp_per_pass",
+         .field = field(&R::sppPerPass),
+         .min = 0,
+         .max = 1e6,
+         .unit = "samples/pixel",
+         .description = "Samples per pixel in each pass (one independent estimate of the image). "
+                        "0 chooses about 64 equal passes. Error estimates need at least 2 passes."},
+        {.name = "time_limit",
+         .field = field(&R::timeLimit),
+         .min = 0,
+         .max = 1e6,
+         .unit = "s",
+         .description = "Stop after the pass that reaches this wall time; 0 for no limit."},
+        {.name = "target_error",
+         .field = field(&R::targetError),
+         .min = 0,
+         .max = 1,
+         .description =
+             "Stop once the estimated relative RMS error is at most this; 0 for no target."},
+        {.name = "max_depth",
+         .field = field(&R::maxDepth),
+         .min = 1,
+         .max = 1e6,
+         .unit = "bounces",
+         .integrators = tracers,
+         .description = "Most scattering events on a path (1: direct light only); for whitted, "
+                        "the depth of specular recursion."},
+        {.name = "rr_depth",
+         .field = field(&R::path, &Path::rrDepth),
+         .min = 1,
+         .max = 1e6,
+         .unit = "bounces",
+         .integrators = {"path"},
+         .description = "Bounces before Russian roulette may end a path (it continues with "
+                        "probability equal to its throughput, so the estimate stays unbiased)."},
+        {.name = "light_sampling",
+         .field = field(&R::path, &Path::lightSampling),
+         .integrators = {"path"},
+         .description = "Sample a light (chosen by power) at every non-specular vertex. Off: the "
+                        "naive path tracer, which finds emitters only by BSDF sampling and never "
+                        "sees point lights."},
+        {.name = "mis",
+         .field = field(&R::path, &Path::mis),
+         .integrators = {"path"},
+         .description = "Weight light and BSDF samples by the power heuristic. Off (with "
+                        "light_sampling on): direct light at non-specular vertices comes from "
+                        "light samples only."},
+        {.name = "photons",
+         .field = field(&R::photon, &Photon::photons),
+         .min = 1,
+         .max = 1e9,
+         .unit = "photon paths/pass",
+         .integrators = photonMappers,
+         .description = "Photon paths traced from the lights in each pass (each stored photon "
+                        "takes 56 bytes)."},
+        {.name = "caustic_photons",
+         .field = field(&R::photon, &Photon::causticPhotons),
+         .min = 0,
+         .max = 1e9,
+         .unit = "photon paths/pass",
+         .integrators = photonMappers,
+         .description = "Photon paths traced for the caustic map alone in each pass; each ends "
+                        "at its first diffuse hit, so they are cheap. 0 takes the caustic "
+                        "photons of the `photons` paths."},
+        {.name = "photon_lookup",
+         .field = field(&R::photon, &Photon::lookup),
+         .choices = {"kdtree", "brute_force"},  // PhotonLookup's order
+         .integrators = photonMappers,
+         .description = "Photon search structure: the kd-tree, or every photon for every look-up "
+                        "(a baseline for benchmarks; the image is the same)."},
+        {.name = "k",
+         .field = field(&R::photon, &Photon::k),
+         .min = 1,
+         .max = 10000,
+         .unit = "photons",
+         .integrators = {"photon"},
+         .description = "Photons per density estimate (the k nearest), when radius is 0."},
+        {.name = "radius",
+         .field = field(&R::photon, &Photon::radius),
+         .min = 0,
+         .max = 1e30,
+         .unit = "scene units",
+         .integrators = photonMappers,
+         .description = "photon: fixed density-estimation radius, 0 for the k nearest photons "
+                        "instead; ppm: the first pass's radius, 0 for 1/500 of the scene's "
+                        "diagonal."},
+        {.name = "kernel",
+         .field = field(&R::photon, &Photon::kernel),
+         .choices = {"box", "cone", "simpson"},  // PhotonKernel's order
+         .integrators = photonMappers,
+         .description = "Density-estimation kernel: box (uniform), cone (1 - d/r) or simpson "
+                        "((1 - d^2/r^2)^2), each normalized over its disk."},
+        {.name = "final_gather",
+         .field = field(&R::photon, &Photon::finalGather),
+         .min = 0,
+         .max = 4096,
+         .unit = "rays",
+         .integrators = {"photon"},
+         .description = "Final-gather rays per camera path for indirect light; 0 reads the "
+                        "global photon map at the visible point."},
+        {.name = "alpha",
+         .field = field(&R::photon, &Photon::alpha),
+         .min = 0.01,
+         .max = 1,
+         .integrators = {"ppm"},
+         .description = "Progressive photon mapping: pass i's squared radius is the previous one "
+                        "times (i - 1 + alpha) / i (Knaus & Zwicker 2011); smaller alpha shrinks "
+                        "it faster."},
+        {.name = "accelerator",
+         .field = field(&R::accelerator),
+         .choices = acceleratorNames(),
+         .description = "Ray intersection structure."},
+        {.name = "memory_limit",
+         .field = field(&R::memoryLimit),
+         .min = 0,
+         .max = 1e9,
+         .unit = "MiB",
+         .description = "Refuse, before the first pass, a render whose estimated peak memory "
+                        "(scene, accelerator, film, photon maps) exceeds this; 0 for half the "
+                        "machine's memory."},
+        {.name = "seed",
+         .field = field(&R::seed),
+         .min = 0,
+         .max = 9007199254740991.0,  // 2^53 - 1: every seed is exact in a JSON number
+         .description = "Random seed: the same scene, settings and seed give the same image."},
+        {.name = "threads",
+         .field = field(&R::threads),
+         .min = 0,
+         .max = 1024,
+         .description = "Worker threads; 0 uses every core. The image does not depend on it."},
+        {.name = "exposure",
+         .field = field(&R::exposure),
+         .min = -20,
+         .max = 20,
+         .unit = "stops",
+         .description =
+             "Scales PNG output by 2^exposure before sRGB encoding; EXR output stays linear."},
+    };
+}
+
+}  // namespace
+
+const std::vector<SettingSpec>& settingSpecs() {
+    static const std::vector<SettingSpec> specs = [] {
+        std::vector<SettingSpec> table = rows();
+        const RenderSettings defaults;
+        for (SettingSpec& s : table) {
+            s.type = s.field.type;
+            s.defaultValue = s.field.get(defaults, s.choices);
+        }
+        return table;
+    }();
+    return specs;
+}
+
+bool SettingSpec::readBy(const std::string& integrator) const {
+    return integrators.empty() ||
+           std::find(integrators.begin(), integrators.end(), integrator) != integrators.end();
+}
+
+}  // namespace caustic
