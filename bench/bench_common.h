@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "command_line.h"
+#include "core/interrupt.h"
 
 namespace caustic::bench {
 
@@ -53,9 +54,7 @@ inline std::string fmt(const char* format, double v) {
     return buf;
 }
 
-inline double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using caustic::secondsSince;  // core/interrupt.h
 
 inline double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());

@@ -77,15 +77,15 @@ int main(int argc, char** argv) {
     const size_t n = size_t(o.size) * size_t(o.size) * 3;
     std::vector<double> exactAdd, doubleAdd, exactMerge, render;
     for (int r = 0; r < o.repeats; ++r) {
-        auto t0 = std::chrono::steady_clock::now();
         caustic::Film film(o.size, o.size), half(o.size, o.size);
+        auto t0 = std::chrono::steady_clock::now();
         for (int p = 0; p < o.passes; ++p) (p % 2 ? half : film).addPass(p, passes[size_t(p)]);
         exactAdd.push_back(secondsSince(t0));
         t0 = std::chrono::steady_clock::now();
         film.merge(half);
         exactMerge.push_back(secondsSince(t0));
-        t0 = std::chrono::steady_clock::now();
         std::vector<double> sum(n, 0.0), sumSq(n, 0.0);
+        t0 = std::chrono::steady_clock::now();
         for (const auto& pass : passes) addDoubles(pass, sum, sumSq);
         doubleAdd.push_back(secondsSince(t0));
         render.push_back(renderPassSeconds(o));

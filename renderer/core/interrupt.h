@@ -1,6 +1,8 @@
 // A request to stop work in progress, polled by every loop whose length a user controls (tiles,
-// camera-path bounces, photon paths and their bounces), so that a cancel or a time limit takes
-// effect mid-pass within milliseconds, however deep the paths.
+// pixel samples, camera-path bounces and Whitted branches, photon paths and their bounces), so that
+// a cancel or a time limit takes effect mid-pass within a fraction of a second, however deep the
+// paths. (Steps whose length the user controls only through the scene's size, such as loading a
+// mesh or building an accelerator, are not interrupted.)
 #pragma once
 
 #include <atomic>
@@ -42,11 +44,30 @@ private:
     std::atomic<int64_t> deadlineNs_{kNever};
 };
 
-/// For loops: whether `interrupt` (may be null) asks to stop at iteration i (polled every
-/// kPollPeriod iterations).
-inline bool interruptedAt(const Interrupt* interrupt, int64_t i) {
-    return interrupt && i % Interrupt::kPollPeriod == Interrupt::kPollPeriod - 1 &&
-           interrupt->requested();
+/// A loop's view of an Interrupt: reads it every Interrupt::kPollPeriod calls of poll(). One per
+/// thread (it counts); the Interrupt may be null (never stop).
+class InterruptPoller {
+public:
+    explicit InterruptPoller(const Interrupt* interrupt = nullptr) : interrupt_(interrupt) {}
+    /// Whether to stop; reads the interrupt every kPollPeriod calls.
+    bool poll() {
+        return interrupt_ && ++calls_ % Interrupt::kPollPeriod == 0 && interrupt_->requested();
+    }
+
+private:
+    const Interrupt* interrupt_;
+    uint32_t calls_ = 0;
+};
+
+/// Seconds since `t0` on the steady clock.
+inline double secondsSince(Interrupt::Clock::time_point t0) {
+    return std::chrono::duration<double>(Interrupt::Clock::now() - t0).count();
+}
+
+/// Seconds from now as a steady-clock time point.
+inline Interrupt::Clock::time_point fromNow(double seconds) {
+    return Interrupt::Clock::now() + std::chrono::duration_cast<Interrupt::Clock::duration>(
+                                         std::chrono::duration<double>(seconds));
 }
 
 }  // namespace caustic

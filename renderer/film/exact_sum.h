@@ -12,9 +12,11 @@
 // two doubles.
 #pragma once
 
-#include <immintrin.h>
-
 #include <cstdint>
+
+#if defined(__x86_64__)
+#include <emmintrin.h>
+#endif
 
 namespace caustic::exact {
 
@@ -22,6 +24,8 @@ __extension__ typedef __int128 Int128;
 __extension__ typedef unsigned __int128 UInt128;
 
 constexpr int kFractionBits = 50;
+/// Passes a film may hold (spp is at most 1e6): the sums' range above needs at most 2^20.
+constexpr int kMaxPasses = 1 << 20;
 /// Pass values are clamped to (-kLimit, kLimit).
 constexpr float kLimit = 0x1p35f;
 
@@ -58,6 +62,7 @@ struct Wide192 {
     }
     /// The value rounded to double (the same bits for the same limbs).
     double toDouble() const {
+        if ((limb[1] | limb[2]) == 0) return double(limb[0]);
         return double(limb[2]) * 0x1p128 + double(limb[1]) * 0x1p64 + double(limb[0]);
     }
     bool operator==(const Wide192&) const = default;
@@ -100,6 +105,7 @@ inline void addSquare(Wide192& acc, Int128 q) {
 /// whether v was out of range. Values below 2^13 in magnitude, nearly all, take a fast path whose
 /// integers fit 64 bits; both paths give the same bits for the same v.
 inline bool accumulate(float v, Int128& sum, Wide192& squares) {
+#if defined(__x86_64__)
     if (v > -0x1p13f && v < 0x1p13f) {
         // round(v * 2^50) < 2^63, by cvtsd2si in the default round-to-nearest-even mode (the mode
         // nearbyint uses in quantize); x86-64's SSE2 has it, unlike SSE4.1's roundsd.
@@ -109,6 +115,7 @@ inline bool accumulate(float v, Int128& sum, Wide192& squares) {
         squares.add(UInt128(m) * m);
         return false;
     }
+#endif
     Int128 q = quantize(v);
     sum += q;
     addSquare(squares, q);
@@ -117,6 +124,8 @@ inline bool accumulate(float v, Int128& sum, Wide192& squares) {
 
 /// The sum in pass-value units, rounded to double.
 inline double sumToDouble(Int128 sum) {
+    // The same rounding either way; the 64-bit conversion is one instruction.
+    if (sum == Int128(int64_t(sum))) return double(int64_t(sum)) * 0x1p-50;
     return double(sum) * 0x1p-50;
 }
 /// The sum of squares in squared pass-value units, rounded to double.

@@ -1,5 +1,8 @@
 #include "film/film.h"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -11,21 +14,37 @@ Film::Film(int width, int height)
       sum_(size_t(width) * size_t(height) * 3, 0),
       sumSq_(size_t(width) * size_t(height) * 3) {}
 
-void Film::addPass(int index, const std::vector<Color>& pass, uint64_t dropped) {
+namespace {
+
+// Films hold at most exact::kMaxPasses passes, numbered below it: the sums' range needs it.
+void checkPassCount(const PassSet& held, int more) {
+    if (held.end() > exact::kMaxPasses || held.count() + more > exact::kMaxPasses)
+        throw std::invalid_argument("a film holds at most " + std::to_string(exact::kMaxPasses) +
+                                    " passes, numbered below that");
+}
+
+}  // namespace
+
+void Film::addPass(int index, const std::vector<Color>& pass, uint64_t dropped, int threads) {
     if (pass.size() * 3 != sum_.size())
         throw std::invalid_argument("a pass of " + std::to_string(pass.size()) +
                                     " pixels for a film of " + std::to_string(sum_.size() / 3));
+    if (index < 0 || index >= exact::kMaxPasses)
+        throw std::invalid_argument("pass index " + std::to_string(index) + " out of range");
+    checkPassCount(passSet_, 1);
     passSet_.insert(index, index + 1);
     static_assert(sizeof(Color) == 3 * sizeof(float), "a pass is read as interleaved floats");
     const float* values = pass.empty() ? nullptr : &pass[0][0];
     const int64_t n = int64_t(sum_.size());
     uint64_t clamped = 0;
     // Every thread the render had idles while a pass is added: share the work (a large film).
-#pragma omp parallel for schedule(static) reduction(+ : clamped) if (n > 262144)
+    const int team = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) reduction(+ : clamped) num_threads(team) if (n > 262144)
     for (int64_t i = 0; i < n; ++i)
         clamped += exact::accumulate(values[i], sum_[size_t(i)], sumSq_[size_t(i)]);
     clamped_ += clamped;
     dropped_ += dropped;
+    updateRelativeError(team);
 }
 
 void Film::merge(const Film& other) {
@@ -33,6 +52,7 @@ void Film::merge(const Film& other) {
         throw std::invalid_argument(
             "cannot merge a " + std::to_string(other.width_) + "x" + std::to_string(other.height_) +
             " film into a " + std::to_string(width_) + "x" + std::to_string(height_) + " one");
+    checkPassCount(passSet_, other.passes());
     passSet_.insert(other.passSet_);  // throws before anything changes
     for (size_t i = 0; i < sum_.size(); ++i) {
         sum_[i] += other.sum_[i];
@@ -40,6 +60,7 @@ void Film::merge(const Film& other) {
     }
     dropped_ += other.dropped_;
     clamped_ += other.clamped_;
+    updateRelativeError(0);
 }
 
 double Film::variance(size_t i) const {
@@ -80,16 +101,32 @@ std::vector<float> Film::standardErrorRgb() const {
     return out;
 }
 
-double Film::relativeError() const {
+void Film::updateRelativeError(int threads) {
     const int n = passes();
-    if (n < 2) return std::nan("");
-    double err2 = 0.0, mean2 = 0.0;
-    for (size_t i = 0; i < sum_.size(); ++i) {
-        double m = exact::sumToDouble(sum_[i]) / n;
-        err2 += variance(i) / n;
-        mean2 += m * m;
+    if (n < 2) {
+        relativeError_ = std::nan("");
+        return;
     }
-    return mean2 > 0.0 ? std::sqrt(err2 / mean2) : 0.0;
+    // Partial sums over fixed blocks, added in block order: the bits do not depend on threads.
+    constexpr size_t kBlock = 3 * 1024;
+    const int64_t blocks = int64_t((sum_.size() + kBlock - 1) / kBlock);
+    std::vector<double> err2(size_t(blocks), 0.0), mean2(size_t(blocks), 0.0);
+    const int team = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) num_threads(team) if (blocks > 64)
+    for (int64_t b = 0; b < blocks; ++b) {
+        size_t end = std::min(sum_.size(), size_t(b + 1) * kBlock);
+        for (size_t i = size_t(b) * kBlock; i < end; ++i) {
+            double m = exact::sumToDouble(sum_[i]) / n;
+            err2[size_t(b)] += variance(i) / n;
+            mean2[size_t(b)] += m * m;
+        }
+    }
+    double e = 0.0, m = 0.0;
+    for (int64_t b = 0; b < blocks; ++b) {
+        e += err2[size_t(b)];
+        m += mean2[size_t(b)];
+    }
+    relativeError_ = m > 0.0 ? std::sqrt(e / m) : 0.0;
 }
 
 std::vector<double> Film::sums() const {

@@ -5,6 +5,7 @@
 // hold the very bits of one film that added every pass.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -21,9 +22,11 @@ class Film {
 public:
     Film(int width, int height);
 
-    /// Adds pass `index`: one estimate of every pixel, row-major, top row first, with the samples
-    /// it dropped. Throws std::invalid_argument if the film holds that pass. Not thread-safe.
-    void addPass(int index, const std::vector<Color>& pass, uint64_t dropped = 0);
+    /// Adds pass `index` (0 <= index < exact::kMaxPasses): one estimate of every pixel's radiance
+    /// (W/(m^2 sr) per linear RGB channel), row-major, top row first, with the samples it dropped.
+    /// Throws std::invalid_argument if the film holds that pass. Not thread-safe; it runs on
+    /// `threads` OpenMP threads itself (0: OpenMP's default).
+    void addPass(int index, const std::vector<Color>& pass, uint64_t dropped = 0, int threads = 0);
     /// Adds the pass after the highest one held.
     void addPass(const std::vector<Color>& pass) { addPass(passSet_.end(), pass); }
     /// Adds another film's passes (same size; throws std::invalid_argument, changing nothing, if
@@ -36,7 +39,8 @@ public:
     const PassSet& passSet() const { return passSet_; }
     /// Samples dropped for being NaN or infinite.
     uint64_t droppedSamples() const { return dropped_; }
-    /// Pass values clamped to the fixed-point range (|v| >= 2^35; film/exact_sum.h).
+    /// Pass values out of the fixed-point range: clamped (|v| >= 2^35) or not a number (counted
+    /// as 0; film/exact_sum.h).
     uint64_t clampedValues() const { return clamped_; }
 
     /// Mean of the pass estimates at a pixel; zero before the first pass.
@@ -49,8 +53,10 @@ public:
     /// The standard error image as interleaved RGB floats.
     std::vector<float> standardErrorRgb() const;
     /// Relative RMS error of the image: sqrt(sum of squared standard errors / sum of squared means)
-    /// over all pixels and channels. NaN with fewer than two passes.
-    double relativeError() const;
+    /// over all pixels and channels. NaN with fewer than two passes. Computed once per change of
+    /// the film (over fixed blocks of pixels added in block order: the same bits on any number of
+    /// threads), so reading it is free.
+    double relativeError() const { return relativeError_; }
 
     /// The sums and sums of squares per pixel and channel (interleaved), rounded to double.
     std::vector<double> sums() const;
@@ -69,11 +75,13 @@ public:
 
 private:
     double variance(size_t i) const;
+    void updateRelativeError(int threads);
 
     int width_, height_;
     PassSet passSet_;
     uint64_t dropped_ = 0;
     uint64_t clamped_ = 0;
+    double relativeError_ = std::nan("");
     std::vector<exact::Int128> sum_;
     std::vector<exact::Wide192> sumSq_;
 };

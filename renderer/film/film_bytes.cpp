@@ -59,23 +59,25 @@ std::unique_ptr<Film> Film::fromBytes(std::string_view bytes, int width, int hei
     Header h{};
     size_t at = 0;
     if (!take(bytes, at, &h, 1) || std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 ||
-        h.width != width || h.height != height || h.ranges > (1u << 20))
+        h.width != width || h.height != height || h.ranges > uint32_t(exact::kMaxPasses))
         return nullptr;
     auto film = std::make_unique<Film>(width, height);
-    try {
-        for (uint32_t i = 0; i < h.ranges; ++i) {
-            int32_t pair[2];
-            if (!take(bytes, at, pair, 2)) return nullptr;
-            film->passSet_.insert(pair[0], pair[1]);
-        }
-    } catch (const std::invalid_argument&) {
-        return nullptr;  // overlapping or negative ranges: not a film this code wrote
+    // Ranges as this code writes them: sorted, apart, not empty, below kMaxPasses.
+    int32_t previousEnd = -1;
+    for (uint32_t i = 0; i < h.ranges; ++i) {
+        int32_t pair[2];
+        if (!take(bytes, at, pair, 2) || pair[0] <= previousEnd || pair[0] >= pair[1] ||
+            pair[1] > exact::kMaxPasses)
+            return nullptr;
+        film->passSet_.insert(pair[0], pair[1]);
+        previousEnd = pair[1];
     }
     if (!take(bytes, at, film->sum_.data(), film->sum_.size()) ||
         !take(bytes, at, film->sumSq_.data(), film->sumSq_.size()) || at != bytes.size())
         return nullptr;
     film->dropped_ = h.dropped;
     film->clamped_ = h.clamped;
+    film->updateRelativeError(0);
     return film;
 }
 

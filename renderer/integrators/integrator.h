@@ -1,5 +1,6 @@
 // Integrators estimate the radiance arriving at the camera along a ray. The render loop
-// (render/renderer.h) owns pixels, passes and threads; an integrator owns only light transport.
+// (render/render_session.h) owns pixels, passes and threads; an integrator owns only light
+// transport.
 #pragma once
 
 #include <cstdint>
@@ -32,15 +33,11 @@ struct TraceSettings {
 struct SampleContext {
     Rng rng{0};
     uint64_t rays = 0;
-    /// The render's stop request (may be null); the sample's result is discarded once it is set.
-    const Interrupt* interrupt = nullptr;
-    uint32_t polls = 0;
+    /// The render's stop request: loops whose length the settings control poll it, and the
+    /// sample's result is discarded once it asks to stop.
+    InterruptPoller interrupt;
 
-    /// Whether to abandon the sample: polled by loops whose length the settings control, it
-    /// reads the interrupt every Interrupt::kPollPeriod calls.
-    bool interrupted() {
-        return interrupt && ++polls % Interrupt::kPollPeriod == 0 && interrupt->requested();
-    }
+    bool interrupted() { return interrupt.poll(); }
 };
 
 class Integrator {
@@ -62,8 +59,8 @@ public:
     /// need more than `budgetBytes` at their peak; called before the first pass.
     virtual void checkMemory(size_t /*budgetBytes*/) const {}
 
-    /// The stop request that beginPass, checkMemory and the caller's samples poll (may be null;
-    /// it must outlive the integrator's use of it).
+    /// The stop request that beginPass and checkMemory poll (may be null; it must outlive their
+    /// calls). Call it only while neither runs.
     void setInterrupt(const Interrupt* interrupt) { interrupt_ = interrupt; }
     const Interrupt* interrupt() const { return interrupt_; }
 

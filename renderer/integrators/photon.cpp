@@ -63,6 +63,7 @@ uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
         for (const Photon& p : traced.photons)
             if (p.path == PhotonPath::Caustic) caustics.push_back(p);
     }
+    if (interrupt_ && interrupt_->requested()) return rays;  // before the maps' build
     global_ = std::make_unique<PhotonMap>(std::move(traced.photons), settings_.lookup);
     caustic_ = std::make_unique<PhotonMap>(std::move(caustics), settings_.lookup);
     return rays;

@@ -19,14 +19,8 @@ struct Chunk {
     std::vector<Photon> photons;
     DVec3 emittedPower{0.0};
     uint64_t rays = 0;
-    uint32_t polls = 0;  // bounces since the interrupt was last read
+    InterruptPoller interrupt;  // polled every bounce
 };
-
-// Whether to stop: the interrupt is read every Interrupt::kPollPeriod bounces.
-bool interrupted(const PhotonTracingOptions& options, Chunk& chunk) {
-    return options.interrupt && ++chunk.polls % Interrupt::kPollPeriod == 0 &&
-           options.interrupt->requested();
-}
 
 void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracingOptions& options,
                uint64_t index, Chunk& out) {
@@ -43,7 +37,7 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
     Ray ray = le->ray;
     bool specularOnly = true;
     for (int bounces = 0; bounces < options.maxDepth; ++bounces) {
-        if (interrupted(options, out)) return;
+        if (out.interrupt.poll()) return;
         ++out.rays;
         std::optional<Hit> hit = accel.intersect(ray, kInfinity);
         if (!hit) return;
@@ -85,6 +79,7 @@ PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
     if (scene.lightSampler.empty() || options.photons == 0) return result;
     const uint64_t chunks = (options.photons + kChunk - 1) / kChunk;
     std::vector<Chunk> done(chunks);
+    for (Chunk& c : done) c.interrupt = InterruptPoller(options.interrupt);
     const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (uint64_t c = 0; c < chunks; ++c) {

@@ -4,17 +4,14 @@
 
 #include <chrono>
 #include <mutex>
+#include <stdexcept>
 
 #include "core/error.h"
 
 namespace caustic {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = Interrupt::Clock;
 
 constexpr int kTileSize = 16;
 
@@ -34,13 +31,14 @@ struct TileRenderer {
         int x1 = std::min(tx + kTileSize, camera.width());
         int y1 = std::min(ty + kTileSize, camera.height());
         SampleContext ctx;
-        ctx.interrupt = &interrupt;
+        ctx.interrupt = InterruptPoller(&interrupt);
         for (int y = ty; y < y1; ++y) {
             for (int x = tx; x < x1; ++x) {
                 uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
                 DVec3 sum(0.0);  // double: many large finite samples must not overflow
                 int valid = 0;
                 for (int s = 0; s < sppPerPass; ++s) {
+                    if (ctx.interrupted()) break;  // the pass is dropped
                     ctx.rng = Rng::forSample(settings.seed, pass, pixel, uint64_t(s));
                     Vec2 jitter = ctx.rng.uniform2();
                     Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
@@ -63,7 +61,7 @@ struct TileRenderer {
 }  // namespace
 
 RenderSession::RenderSession(const Scene& scene, const RenderSettings& settings,
-                             const std::atomic<bool>* cancel)
+                             const Interrupt* interrupt)
     : scene_(scene),
       settings_(settings),
       sppPerPass_(settings.resolvedSppPerPass()),
@@ -75,11 +73,10 @@ RenderSession::RenderSession(const Scene& scene, const RenderSettings& settings,
     acceleratorSeconds_ = secondsSince(t0);
     auto t1 = Clock::now();
     integrator_ = createIntegrator(scene_, *accel_, settings_);
-    Interrupt pilotInterrupt(cancel);
-    integrator_->setInterrupt(&pilotInterrupt);
+    integrator_->setInterrupt(interrupt);
     checkMemory();
     integrator_->setInterrupt(nullptr);
-    if (pilotInterrupt.cancelled()) throw RenderCancelled();
+    if (interrupt && interrupt->requested()) throw RenderCancelled();
     passImage_.resize(size_t(scene_.camera.width()) * size_t(scene_.camera.height()));
     integratorSeconds_ = secondsSince(t1);
 }
@@ -134,11 +131,20 @@ bool RenderSession::renderPass(int pass, const Interrupt& interrupt, uint64_t& r
 
 RangeResult RenderSession::renderRange(int first, int last, Film& film,
                                        const RenderCallbacks& callbacks) {
+    if (first < 0 || first > last || last > passesTotal_ || film.passSet().overlaps(first, last))
+        throw std::invalid_argument("cannot render passes " + std::to_string(first) + " to " +
+                                    std::to_string(last) + " of " + std::to_string(passesTotal_) +
+                                    " onto a film holding " + film.passSet().toString());
     auto t0 = Clock::now();
     RangeResult result;
-    StopRules rules(settings_, callbacks.cancel);
+    StopRules rules(settings_, callbacks.cancel, callbacks.timeLimit);
     rules.start(film);
     integrator_->setInterrupt(&rules.interrupt());
+    // The rules live on this stack: the integrator must not keep them past this call.
+    struct Detach {
+        Integrator& integrator;
+        ~Detach() { integrator.setInterrupt(nullptr); }
+    } detach{*integrator_};
     std::mutex progressMutex;
     auto lastProgress = Clock::now();
     auto report = [&](double passFraction) {
@@ -175,12 +181,11 @@ RangeResult RenderSession::renderRange(int first, int last, Film& film,
             break;
         }
         if (callbacks.onPassImage) callbacks.onPassImage(pass, passImage_, dropped);
-        film.addPass(pass, passImage_, dropped);
+        film.addPass(pass, passImage_, dropped, threads_);
         report(0.0);
         if (callbacks.onPass) callbacks.onPass(film);
         stop = rules.afterPass(film, pass + 1 < last);
     }
-    integrator_->setInterrupt(nullptr);
     result.stopReason = stop.value_or(StopReason::Spp);
     result.renderSeconds = secondsSince(t0);
     return result;

@@ -37,10 +37,13 @@ struct RenderCallbacks {
     std::function<void(const Film&)> onPass;
     /// Each finished pass's image and dropped samples, before it is added to the film (for a
     /// merge that must replay passes in order, see target_error_merge.h).
+    /// Called from the rendering thread; the image is valid during the call only.
     std::function<void(int pass, const std::vector<Color>& image, uint64_t dropped)> onPassImage;
     /// Polled between tiles and inside paths; when it becomes true the render stops, discarding
     /// the partial pass.
     const std::atomic<bool>* cancel = nullptr;
+    /// Earlier attempts' seconds, and whether the limit cuts a first pass too (stopping.h).
+    TimeLimitOptions timeLimit;
 };
 
 /// What rendering a range did.
@@ -53,10 +56,12 @@ struct RangeResult {
 
 class RenderSession {
 public:
-    /// Builds the accelerator and the integrator and checks the memory limit. Throws InputError
-    /// naming the setting at fault. `cancel` (may be null) stops the memory check's pilot.
+    /// Builds the accelerator and the integrator and checks the memory limit (the photon
+    /// integrators trace a pilot). Throws InputError naming the setting at fault, and
+    /// RenderCancelled when `interrupt` (may be null) stopped the pilot. `scene` must outlive the
+    /// session.
     RenderSession(const Scene& scene, const RenderSettings& settings,
-                  const std::atomic<bool>* cancel = nullptr);
+                  const Interrupt* interrupt = nullptr);
 
     const Scene& scene() const { return scene_; }
     const RenderSettings& settings() const { return settings_; }
@@ -69,8 +74,11 @@ public:
 
     /// An empty film of the camera's size.
     std::unique_ptr<Film> makeFilm() const;
-    /// Renders passes [first, last) onto `film` (which must hold none of them), stopping early
-    /// by the settings' time limit, target error and `callbacks.cancel`. Not reentrant.
+    /// Renders passes [first, last), 0 <= first <= last <= passesTotal(), onto `film` (which
+    /// must hold none of them; std::invalid_argument otherwise, before any work), stopping early
+    /// by the settings' time limit (counted from this call, see RenderCallbacks::timeLimit), target
+    /// error and `callbacks.cancel`. A pass cut short is left out. Uses `threads()` OpenMP
+    /// threads; not reentrant (one range at a time per session).
     RangeResult renderRange(int first, int last, Film& film, const RenderCallbacks& callbacks);
     /// Bytes of each part, `film` included.
     MemoryStats memory(const Film& film) const;

@@ -29,6 +29,7 @@ nlohmann::json RenderStats::toJson() const {
             {"spp", sppReached},
             {"relative_error", number(relativeError)},
             {"dropped_samples", droppedSamples},
+            {"clamped_values", clampedValues},
             {"threads", threads},
             {"stop_reason", toString(stopReason)},
             {"memory", memory.toJson()}};

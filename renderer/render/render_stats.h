@@ -41,6 +41,7 @@ struct RenderStats {
     int sppReached = 0;
     double relativeError = 0;     ///< Film::relativeError(); NaN with fewer than 2 passes.
     uint64_t droppedSamples = 0;  ///< NaN or infinite samples left out.
+    uint64_t clampedValues = 0;   ///< Pass values beyond the film's range (Film::clampedValues).
     int threads = 0;
     StopReason stopReason = StopReason::Spp;
     MemoryStats memory;

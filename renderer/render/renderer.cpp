@@ -7,11 +7,7 @@
 namespace caustic {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = Interrupt::Clock;
 
 }  // namespace
 
@@ -45,6 +41,7 @@ RenderStats renderPasses(RenderSession& session, Film& film, const RenderCallbac
     stats.raysPerSecond = stats.renderSeconds > 0 ? double(stats.rays) / stats.renderSeconds : 0;
     stats.relativeError = film.relativeError();
     stats.droppedSamples = film.droppedSamples();
+    stats.clampedValues = film.clampedValues();
     stats.memory = session.memory(film);
     return stats;
 }
@@ -52,7 +49,11 @@ RenderStats renderPasses(RenderSession& session, Film& film, const RenderCallbac
 RenderResult render(const Scene& scene, const RenderSettings& settings,
                     const RenderCallbacks& callbacks) {
     auto t0 = Clock::now();
-    RenderSession session(scene, settings, callbacks.cancel);
+    // The memory check's pilot stops at a cancel, and at a strict time limit.
+    Interrupt setup(callbacks.cancel);
+    if (callbacks.timeLimit.strict && settings.timeLimit > 0)
+        setup.setDeadline(fromNow(settings.timeLimit - callbacks.timeLimit.secondsBefore));
+    RenderSession session(scene, settings, &setup);
     RenderResult result;
     result.film = session.makeFilm();
     result.stats = renderPasses(session, *result.film, callbacks);

@@ -29,7 +29,7 @@ void checkRenderMemory(const Scene& scene, const RenderSettings& settings);
 RenderStats renderPasses(RenderSession& session, Film& film, const RenderCallbacks& callbacks = {});
 
 /// Renders `scene` with `settings` from scratch. Throws InputError for settings the scene cannot
-/// use.
+/// use, RenderCancelled when cancelled (or past a strict time limit) before the first pass.
 RenderResult render(const Scene& scene, const RenderSettings& settings,
                     const RenderCallbacks& callbacks = {});
 

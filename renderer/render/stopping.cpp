@@ -23,29 +23,31 @@ bool reachedTargetError(const Film& film, double targetError) {
            film.relativeError() <= targetError;
 }
 
-StopRules::StopRules(const RenderSettings& settings, const std::atomic<bool>* cancel)
-    : timeLimit_(settings.timeLimit), targetError_(settings.targetError), interrupt_(cancel) {}
+StopRules::StopRules(const RenderSettings& settings, const std::atomic<bool>* cancel,
+                     TimeLimitOptions timeLimit)
+    : timeLimit_(settings.timeLimit),
+      targetError_(settings.targetError),
+      options_(timeLimit),
+      interrupt_(cancel) {}
 
 void StopRules::start(const Film& film) {
     start_ = Interrupt::Clock::now();
-    if (film.passes() > 0) armTimeLimit();
+    if (film.passes() > 0 || options_.strict) armTimeLimit();
 }
 
 void StopRules::armTimeLimit() {
-    if (timeLimit_ <= 0) return;
-    interrupt_.setDeadline(start_ + std::chrono::duration_cast<Interrupt::Clock::duration>(
-                                        std::chrono::duration<double>(timeLimit_)));
+    if (timeLimit_ > 0) interrupt_.setDeadline(fromNow(timeLimit_ - elapsed()));
 }
 
 double StopRules::elapsed() const {
-    return std::chrono::duration<double>(Interrupt::Clock::now() - start_).count();
+    return options_.secondsBefore + secondsSince(start_);
 }
 
 std::optional<StopReason> StopRules::afterPass(const Film& film, bool passesLeft) {
     if (interrupt_.cancelled()) return StopReason::Cancelled;
     if (reachedTargetError(film, targetError_)) return StopReason::TargetError;
     if (timeLimit_ > 0 && passesLeft && elapsed() >= timeLimit_) return StopReason::TimeLimit;
-    armTimeLimit();  // from now on a pass running at the limit is cut short
+    if (film.passes() == 1) armTimeLimit();  // from now on a pass running at the limit is cut
     return std::nullopt;
 }
 

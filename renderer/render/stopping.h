@@ -1,6 +1,8 @@
 // The rules that end a render, whichever comes first: the pass budget (spp), the time limit, the
-// target error, cancellation. One unit, so that the CLI, the server's workers and a merge of pass
-// ranges rendered elsewhere stop at the same pass.
+// target error, cancellation. One unit, so that the CLI and the server's workers stop alike, and a
+// merge of pass ranges rendered elsewhere (target_error_merge.h) stops at the same pass for a
+// target error. (The time limit and the pass budget of ranges rendered apart belong to whoever
+// hands out the ranges: a merge has no clock.)
 #pragma once
 
 #include <atomic>
@@ -27,14 +29,24 @@ std::string toString(StopReason r);
 /// Film::relativeError; 0 for no target). Needs two passes.
 bool reachedTargetError(const Film& film, double targetError);
 
+/// How the time limit treats a render.
+struct TimeLimitOptions {
+    /// Seconds the render ran before (earlier attempts of a resumed job): the limit counts them.
+    double secondsBefore = 0;
+    /// Whether a first pass still running at the limit is cut short too, so that the render ends
+    /// with no pass (a service, whose jobs must end at their limit). Otherwise the first pass
+    /// always finishes, so that a render has an image.
+    bool strict = false;
+};
+
 class StopRules {
 public:
     /// `cancel` (may be null) must outlive the rules.
-    StopRules(const RenderSettings& settings, const std::atomic<bool>* cancel);
+    StopRules(const RenderSettings& settings, const std::atomic<bool>* cancel,
+              TimeLimitOptions timeLimit = {});
 
-    /// Starts the time limit's clock. Rendering onto `film`: once it holds a pass, a pass still
-    /// running at the time limit is abandoned; the first is always finished, so that a render has
-    /// an image (the caller may cancel it).
+    /// Starts the time limit's clock, rendering onto `film`: a pass still running at the limit is
+    /// abandoned once the film holds one (or at once, with TimeLimitOptions::strict).
     void start(const Film& film);
     /// What passes poll: cancellation, and the time limit once a pass is done. Thread-safe.
     const Interrupt& interrupt() const { return interrupt_; }
@@ -47,7 +59,7 @@ public:
     /// predecessors cannot know it; a merge of ranges finds the stop, see target_error_merge.h).
     /// `passesLeft`: whether the budget has passes after this one.
     std::optional<StopReason> afterPass(const Film& film, bool passesLeft);
-    /// Seconds since start().
+    /// Seconds since start(), with TimeLimitOptions::secondsBefore.
     double elapsed() const;
 
 private:
@@ -55,6 +67,7 @@ private:
 
     double timeLimit_;
     double targetError_;
+    TimeLimitOptions options_;
     Interrupt interrupt_;
     Interrupt::Clock::time_point start_;
 };

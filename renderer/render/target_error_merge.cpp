@@ -11,6 +11,8 @@ TargetErrorMerge::TargetErrorMerge(int width, int height, double targetError)
     : film_(width, height), targetError_(targetError) {}
 
 void TargetErrorMerge::addPass(int index, std::vector<Color> image, uint64_t dropped) {
+    if (index < 0 || index >= exact::kMaxPasses)
+        throw std::invalid_argument("pass index " + std::to_string(index) + " out of range");
     if (film_.passSet().overlaps(index, index + 1) || pending_.count(index))
         throw std::invalid_argument("pass " + std::to_string(index) + " was merged already");
     if (stop_ && index > *stop_) return;

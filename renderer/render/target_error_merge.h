@@ -28,7 +28,8 @@ public:
     const Film& film() const { return film_; }
     /// The pass whose error reached the target, once one has.
     std::optional<int> stopPass() const { return stop_; }
-    /// Passes held until those before them arrive.
+    /// Passes held until those before them arrive (12 bytes a pixel each: whoever hands out the
+    /// ranges should do so in order, within a window).
     size_t pending() const { return pending_.size(); }
 
 private:

@@ -1,5 +1,7 @@
 #include "jobs/lease_keeper.h"
 
+#include <chrono>
+
 #include "jobs/clock.h"
 
 namespace caustic::server {
@@ -20,23 +22,12 @@ LeaseKeeper::~LeaseKeeper() {
     thread_.join();
 }
 
-void LeaseKeeper::setFirstPassDeadline(double seconds) {
-    auto deadline = SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
-                                             std::chrono::duration<double>(seconds));
-    firstPassDeadlineNs_ = deadline.time_since_epoch().count();
-}
-
 void LeaseKeeper::run() {
     const auto period = std::chrono::duration<double>(std::min(1.0, config_.leaseSeconds / 4));
     auto last = SteadyClock::now();
     while (!done_) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
         if (stopping_) cancel = true;
-        if (!passFinished_ &&
-            SteadyClock::now().time_since_epoch().count() >= firstPassDeadlineNs_) {
-            timedOut = true;
-            cancel = true;
-        }
         if (SteadyClock::now() - last < period) continue;
         last = SteadyClock::now();
         LeaseStatus s = LeaseStatus::Held;

@@ -6,6 +6,12 @@ namespace caustic::server {
 
 using SteadyClock = std::chrono::steady_clock;
 
+double secondsRendered(const Job& job) {
+    if (!job.convergence.empty() && job.convergence.back().contains("seconds"))
+        return job.convergence.back()["seconds"].get<double>();
+    return 0;
+}
+
 PassRecorder::PassRecorder(JobStore& store, const JobFiles& files, JobEvents& events,
                            LeaseKeeper& lease, const Job& job, const RenderSettings& settings,
                            int passesTotal, std::atomic<uint64_t>& passCounter)
@@ -17,11 +23,9 @@ PassRecorder::PassRecorder(JobStore& store, const JobFiles& files, JobEvents& ev
       settings_(settings),
       passesTotal_(passesTotal),
       passCounter_(passCounter),
+      priorSeconds_(secondsRendered(job)),
       started_(SteadyClock::now()),
-      lastPreview_(started_ - std::chrono::hours(1)) {
-    if (!job.convergence.empty() && job.convergence.back().contains("seconds"))
-        priorSeconds_ = job.convergence.back()["seconds"].get<double>();
-}
+      lastPreview_(started_ - std::chrono::hours(1)) {}
 
 bool PassRecorder::record(const Film& film, double seconds, double eta) {
     double error = film.relativeError();
@@ -51,7 +55,6 @@ void PassRecorder::onProgress(const RenderProgress& p) {
 }
 
 void PassRecorder::onPass(const Film& film) {
-    lease_.passFinished();
     if (lease_.lost) return;
     files_.writeCheckpoint(job_.id, film);
     if (SteadyClock::now() - lastPreview_ > std::chrono::milliseconds(500)) {
@@ -72,6 +75,8 @@ void PassRecorder::onPass(const Film& film) {
 RenderCallbacks PassRecorder::callbacks() {
     RenderCallbacks c;
     c.cancel = &lease_.cancel;
+    // A job's time limit bounds all its attempts, and a first pass too.
+    c.timeLimit = {.secondsBefore = priorSeconds_, .strict = true};
     c.onProgress = [this](const RenderProgress& p) { onProgress(p); };
     c.onPass = [this](const Film& film) { onPass(film); };
     return c;

@@ -18,10 +18,13 @@
 
 namespace caustic::server {
 
+/// Seconds earlier attempts of `job` rendered (from its convergence log).
+double secondsRendered(const Job& job);
+
 class PassRecorder {
 public:
-    /// `priorSeconds`: earlier attempts' render time, so the convergence log's seconds run on.
-    /// `passCounter` counts every recorded pass (for /metrics).
+    /// The convergence log's seconds run on from secondsRendered(job). `passCounter` counts every
+    /// recorded pass (for /metrics).
     PassRecorder(JobStore& store, const JobFiles& files, JobEvents& events, LeaseKeeper& lease,
                  const Job& job, const RenderSettings& settings, int passesTotal,
                  std::atomic<uint64_t>& passCounter);

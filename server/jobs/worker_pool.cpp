@@ -11,6 +11,16 @@
 
 namespace caustic::server {
 
+namespace {
+
+std::string timeLimitError(const RenderSettings& settings) {
+    return "/settings/time_limit: no pass finished within the time limit of " +
+           Json(settings.timeLimit).dump() +
+           " s; raise time_limit, or lower spp_per_pass or photons";
+}
+
+}  // namespace
+
 WorkerPool::WorkerPool(const ServerConfig& config, JobStore& store, const JobFiles& files,
                        JobEvents& events, RenderCounters& counters, std::string owner)
     : config_(config),
@@ -90,31 +100,32 @@ void WorkerPool::renderJob(const Job& job) {
 
 WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease) {
     Outcome outcome;
+    RenderSettings settings;
     try {
         // The scene, settings and session are made once per attempt.
         SceneOptions options;
         options.assetsDir = config_.assetsDir;
         std::unique_ptr<Scene> scene = loadScene(job.scene, options);
-        RenderSettings settings = parseSettings(job.settings);
-        RenderSession session(*scene, settings, &lease.cancel);
+        settings = parseSettings(job.settings);
+        // The memory check's pilot stops at a cancel and at the time limit, as passes do.
+        Interrupt setup(&lease.cancel);
+        if (settings.timeLimit > 0)
+            setup.setDeadline(fromNow(settings.timeLimit - secondsRendered(job)));
+        RenderSession session(*scene, settings, &setup);
         std::unique_ptr<Film> film =
             files_.readCheckpoint(job.id, scene->camera.width(), scene->camera.height());
         if (!film) film = session.makeFilm();
         PassRecorder recorder(store_, files_, events_, lease, job, settings, session.passesTotal(),
                               counters_.passes);
         recorder.catchUp(*film);
-        if (film->passes() == 0 && settings.timeLimit > 0)
-            lease.setFirstPassDeadline(settings.timeLimit);
 
         RenderStats stats = renderPasses(session, *film, recorder.callbacks());
         counters_.rays += stats.rays;
-        counters_.renderSeconds = counters_.renderSeconds + stats.renderSeconds;
+        counters_.renderSeconds.fetch_add(stats.renderSeconds);
         counters_.lastRaysPerSecond = stats.raysPerSecond;
         outcome.stats = stats.toJson();
-        if (lease.timedOut && film->passes() == 0) {
-            outcome.error = "/settings/time_limit: no pass finished within the time limit of " +
-                            Json(settings.timeLimit).dump() +
-                            " s; raise time_limit, or lower spp_per_pass or photons";
+        if (stats.stopReason == StopReason::TimeLimit && film->passes() == 0) {
+            outcome.error = timeLimitError(settings);
         } else if (stats.stopReason == StopReason::Cancelled) {
             outcome.state = JobState::Cancelled;
             outcome.error = "cancelled";
@@ -125,8 +136,13 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
             outcome.state = JobState::Succeeded;
         }
     } catch (const RenderCancelled&) {
-        outcome.state = JobState::Cancelled;
-        outcome.error = "cancelled";
+        // Before the first pass: cancelled, or out of time in the memory check's pilot.
+        if (lease.cancel) {
+            outcome.state = JobState::Cancelled;
+            outcome.error = "cancelled";
+        } else {
+            outcome.error = timeLimitError(settings);
+        }
     } catch (const InputError& e) {
         outcome.error = e.what();
     } catch (const std::exception& e) {

@@ -52,7 +52,6 @@ private:
     void run();
     void renderJob(const Job& job);
     Outcome renderLeased(const Job& job, LeaseKeeper& lease);
-    void finishJob(const Job& job, const LeaseKeeper& lease, const Outcome& outcome);
 
     const ServerConfig& config_;
     JobStore& store_;

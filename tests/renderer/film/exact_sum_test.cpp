@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -71,6 +72,55 @@ TEST(ExactSum, DoubleSumsWouldDependOnTheSplit) {
     EXPECT_GT(differ, 0);
 }
 
+TEST(ExactSum, TheFastPathGivesTheIntegersOfTheGeneralOne) {
+    // accumulate() takes a 64-bit path below 2^13; quantize + addSquare are the general path.
+    std::vector<float> values = {0.0f,
+                                 -0.0f,
+                                 1e-45f,
+                                 -1e-45f,
+                                 0x1p-51f,
+                                 0x1.8p-51f,
+                                 0x1p-50f,
+                                 0x1.4p-50f,
+                                 0x1.fffffep12f,
+                                 -0x1.fffffep12f,
+                                 0x1p13f,
+                                 -0x1p13f,
+                                 0x1.fffffep34f,
+                                 0x1p35f,
+                                 1e30f,
+                                 -1e30f,
+                                 std::numeric_limits<float>::infinity(),
+                                 -std::numeric_limits<float>::infinity(),
+                                 std::nanf("")};
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> mantissa(1.0f, 2.0f);
+    for (int e = -149; e < 128; ++e)
+        for (int k = 0; k < 8; ++k)
+            values.push_back(std::ldexp(mantissa(rng), e) * (k % 2 ? -1 : 1));
+    for (float v : values) {
+        exact::Int128 sum = 0;
+        exact::Wide192 squares;
+        bool out = exact::accumulate(v, sum, squares);
+        exact::Int128 q = exact::quantize(v);
+        exact::Wide192 expected;
+        exact::addSquare(expected, q);
+        ASSERT_TRUE(sum == q) << v;
+        ASSERT_TRUE(squares == expected) << v;
+        ASSERT_EQ(out, exact::outOfRange(v)) << v;
+    }
+}
+
+TEST(ExactSum, TheLargestSquaresOverTheMostPassesFit) {
+    // 2^20 passes of the largest value: q^2 doubled 20 times stays below 2^192.
+    exact::Wide192 squares;
+    exact::addSquare(squares, exact::quantize(0x1.fffffep34f));
+    for (int i = 0; i < 20; ++i) squares.add(exact::Wide192(squares));
+    EXPECT_LT(squares.limb[2], uint64_t(1) << 63);
+    EXPECT_DOUBLE_EQ(exact::squaresToDouble(squares),
+                     std::ldexp(double(0x1.fffffep34f) * double(0x1.fffffep34f), 20));
+}
+
 TEST(ExactSum, HoldsFloatsExactlyAboveTwoToTheMinus27) {
     for (float v : {1.0f, 0.1f, 3.3e-7f, 7.5e-9f, 12345.678f, 1.0e10f, -2.5f}) {
         Film film(1, 1);
@@ -94,7 +144,7 @@ TEST(ExactSum, ClampsValuesBeyondTheRangeAndCountsThem) {
     EXPECT_FLOAT_EQ(film.mean(0, 0).r, 0x1p35f);
     EXPECT_FLOAT_EQ(film.mean(0, 0).g, -0x1p35f);
     EXPECT_EQ(film.mean(1, 0), Color(0.0f, 1.0f, 2.0f));
-    // The largest values over the most passes still sum exactly: 2^20 passes of the limit.
+    // Values near the limit sum exactly over many passes.
     Film big(1, 1);
     for (int p = 0; p < 64; ++p) big.addPass({Color(3.4e10f)});
     EXPECT_FLOAT_EQ(big.mean(0, 0).r, 3.4e10f);

@@ -74,6 +74,55 @@ INSTANTIATE_TEST_SUITE_P(Integrators, BoundedWork,
                          ::testing::Values("path", "whitted", "photon", "ppm"),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
 
+TEST(BoundedWork, ACancelStopsAPassOfAMillionSamplesPerPixel) {
+    // Ray casting ends every path at once; the work is in the pixel samples' loop.
+    auto scene = sceneFromJson(testing::exampleScene("cornell-spheres", 64, 64));
+    std::atomic<bool> cancel{false};
+    StopReason reason = StopReason::Spp;
+    double seconds = secondsToStop(
+        cancel,
+        [&] {
+            RenderCallbacks callbacks;
+            callbacks.cancel = &cancel;
+            nlohmann::json s = {{"integrator", "raycast"}, {"spp", 1000000}, {"threads", 2}};
+            s["spp_per_pass"] = 1000000;
+            reason = render(*scene, settingsFrom(s), callbacks).stats.stopReason;
+        },
+        std::chrono::milliseconds(500));
+    EXPECT_EQ(reason, StopReason::Cancelled);
+    EXPECT_LT(seconds, 1.0);
+}
+
+TEST(BoundedWork, AStrictTimeLimitCutsTheFirstPassAndThePilot) {
+    // What the service asks: a job's time limit holds for its first pass and its memory check.
+    auto scene = sceneFromJson(mirrorTrap());
+    for (const char* integrator : {"path", "photon"}) {
+        nlohmann::json s = {{"integrator", integrator},
+                            {"max_depth", 1000000},
+                            {"time_limit", 1.0},
+                            {"threads", 2}};
+        RenderCallbacks callbacks;
+        callbacks.timeLimit = {.secondsBefore = 0.5, .strict = true};
+        auto t0 = Clock::now();
+        StopReason reason = StopReason::Spp;
+        int passes = -1;
+        try {
+            RenderResult r = render(*scene, settingsFrom(s), callbacks);
+            reason = r.stats.stopReason;
+            passes = r.film->passes();
+        } catch (const RenderCancelled&) {
+            reason = StopReason::TimeLimit;  // in the pilot, before any pass
+            passes = 0;
+        }
+        double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        EXPECT_EQ(reason, StopReason::TimeLimit) << integrator;
+        EXPECT_EQ(passes, 0) << integrator;
+        // The half second of an earlier attempt counts against the limit.
+        EXPECT_LT(seconds, 0.9) << integrator;
+        EXPECT_GT(seconds, 0.4) << integrator;
+    }
+}
+
 TEST(BoundedWork, PhotonTracingStopsMidPass) {
     auto scene = sceneFromJson(mirrorTrap());
     auto accel = createAccelerator("embree", scene->geometry);
