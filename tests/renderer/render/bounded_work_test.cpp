@@ -48,10 +48,9 @@ double secondsToStop(std::atomic<bool>& cancel, Work work, std::chrono::millisec
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-class BoundedWork : public ::testing::TestWithParam<std::string> {};
-
-TEST_P(BoundedWork, ACancelStopsARenderOfEndlessPathsWithinASecond) {
-    auto scene = sceneFromJson(mirrorTrap());
+// Renders, cancels after `delay`, and expects the render to end as cancelled within a second.
+void expectCancelledWithinASecond(const Scene& scene, const RenderSettings& settings,
+                                  std::chrono::milliseconds delay) {
     std::atomic<bool> cancel{false};
     StopReason reason = StopReason::Spp;
     double seconds = secondsToStop(
@@ -60,14 +59,21 @@ TEST_P(BoundedWork, ACancelStopsARenderOfEndlessPathsWithinASecond) {
             RenderCallbacks callbacks;
             callbacks.cancel = &cancel;
             try {
-                reason = render(*scene, trapSettings(GetParam()), callbacks).stats.stopReason;
+                reason = render(scene, settings, callbacks).stats.stopReason;
             } catch (const RenderCancelled&) {
                 reason = StopReason::Cancelled;  // while the session was built (the pilot)
             }
         },
-        std::chrono::milliseconds(500));
+        delay);
     EXPECT_EQ(reason, StopReason::Cancelled);
     EXPECT_LT(seconds, 1.0);
+}
+
+class BoundedWork : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BoundedWork, ACancelStopsARenderOfEndlessPathsWithinASecond) {
+    auto scene = sceneFromJson(mirrorTrap());
+    expectCancelledWithinASecond(*scene, trapSettings(GetParam()), std::chrono::milliseconds(500));
 }
 
 INSTANTIATE_TEST_SUITE_P(Integrators, BoundedWork,
@@ -77,20 +83,9 @@ INSTANTIATE_TEST_SUITE_P(Integrators, BoundedWork,
 TEST(BoundedWork, ACancelStopsAPassOfAMillionSamplesPerPixel) {
     // Ray casting ends every path at once; the work is in the pixel samples' loop.
     auto scene = sceneFromJson(testing::exampleScene("cornell-spheres", 64, 64));
-    std::atomic<bool> cancel{false};
-    StopReason reason = StopReason::Spp;
-    double seconds = secondsToStop(
-        cancel,
-        [&] {
-            RenderCallbacks callbacks;
-            callbacks.cancel = &cancel;
-            nlohmann::json s = {{"integrator", "raycast"}, {"spp", 1000000}, {"threads", 2}};
-            s["spp_per_pass"] = 1000000;
-            reason = render(*scene, settingsFrom(s), callbacks).stats.stopReason;
-        },
-        std::chrono::milliseconds(500));
-    EXPECT_EQ(reason, StopReason::Cancelled);
-    EXPECT_LT(seconds, 1.0);
+    nlohmann::json s = {{"integrator", "raycast"}, {"spp", 1000000}, {"threads", 2}};
+    s["spp_per_pass"] = 1000000;
+    expectCancelledWithinASecond(*scene, settingsFrom(s), std::chrono::milliseconds(500));
 }
 
 TEST(BoundedWork, AStrictTimeLimitCutsTheFirstPassAndThePilot) {
