@@ -25,6 +25,16 @@ size_t mib(size_t bytes) {
     return (bytes + (size_t(1) << 20) - 1) >> 20;
 }
 
+// The settings the photon budget depends on.
+struct PhotonBudget {
+    uint64_t photons = 0, causticPhotons = 0;
+    int maxDepth = 0;
+};
+
+PhotonBudget photonBudget(const RenderSettings& s) {
+    return {uint64_t(s.photons), uint64_t(s.causticPhotons), s.maxDepth};
+}
+
 struct Counts {
     uint64_t prims = 0, vertices = 0, triangles = 0;
     uint64_t lights = 0, emitters = 0;  // emitters: emissive primitives, each an area light
@@ -82,19 +92,20 @@ bool hasSpecular(const Scene& scene) {
 size_t photonPeakBytes(const Scene& scene, const RenderSettings& settings, const Counts& c) {
     if (settings.integrator != "photon" && settings.integrator != "ppm") return 0;
     if (!c.emits) return 0;
-    const double perPath = storedPhotonsPerPathBound(scene, settings.maxDepth);
+    const PhotonBudget budget = photonBudget(settings);
+    const double perPath = storedPhotonsPerPathBound(scene, budget.maxDepth);
     // A path stores at most one caustic photon: the first non-specular hit after specular ones
     // only (photons/photon_tracer.cpp). Without specular materials there is none.
     const double caustic = hasSpecular(scene) && perPath > 0 ? 1.0 : 0.0;
-    double stored = double(settings.photons) * perPath;
-    stored +=
-        double(settings.causticPhotons > 0 ? settings.causticPhotons : settings.photons) * caustic;
+    double stored = double(budget.photons) * perPath;
+    stored += double(budget.causticPhotons > 0 ? budget.causticPhotons : budget.photons) * caustic;
     return PhotonIntegrator::peakBytes(stored);
 }
 
 }  // namespace
 
 size_t filmBytes(int width, int height) {
+    // As render/renderer.cpp's checkMemory counts it.
     return size_t(width) * size_t(height) * (6 * sizeof(double) + sizeof(Color));
 }
 
@@ -134,10 +145,11 @@ void checkMemoryEstimate(const Scene& scene, const RenderSettings& settings) {
                              std::to_string(limit >> 20) + " MiB");
     const size_t left = limit - e.beforePasses();
     if (e.photonMaps <= left) return;
-    bool caustics = settings.causticPhotons > settings.photons;
+    const PhotonBudget budget = photonBudget(settings);
+    const bool caustics = budget.causticPhotons > budget.photons;
     char perPath[32];
     std::snprintf(perPath, sizeof perPath, "%.1f",
-                  storedPhotonsPerPathBound(scene, settings.maxDepth));
+                  storedPhotonsPerPathBound(scene, budget.maxDepth));
     throw InputError(caustics ? "/settings/caustic_photons" : "/settings/photons",
                      "the photon maps of a pass could need about " +
                          std::to_string(mib(e.photonMaps)) +

@@ -23,8 +23,8 @@ struct MemoryEstimate {
     size_t total() const { return beforePasses() + photonMaps; }
 };
 
-/// Bytes of a width x height film: per pixel, the sum and sum of squares of the pass estimates in
-/// double and the pass buffer in float (film/film.h).
+/// Bytes of a width x height film as render() counts them before its first pass: per pixel, the
+/// sum and sum of squares of the pass estimates in double and the pass buffer in float.
 size_t filmBytes(int width, int height);
 
 /// Most photons one photon path stores, in expectation, in a scene (see .cpp for the argument):

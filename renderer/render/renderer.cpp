@@ -8,7 +8,6 @@
 #include "accel/accelerator.h"
 #include "core/error.h"
 #include "integrators/integrator.h"
-#include "render/memory_estimate.h"
 
 namespace caustic {
 namespace {
@@ -66,7 +65,9 @@ struct PassRenderer {
 void checkMemory(const Scene& scene, const Accelerator& accel, const Integrator& integrator,
                  const RenderSettings& settings) {
     const size_t limit = settings.memoryLimitBytes();
-    const size_t film = filmBytes(scene.camera.width(), scene.camera.height());
+    const size_t pixels = size_t(scene.camera.width()) * size_t(scene.camera.height());
+    // The film's sums and sums of squares in double, and the pass buffer.
+    const size_t film = pixels * (6 * sizeof(double) + sizeof(Color));
     const size_t built =
         scene.geometry.memoryBytes() + accel.memoryBytes() + film + scene.lightTableBytes();
     if (built > limit)
@@ -121,6 +122,11 @@ nlohmann::json RenderStats::toJson() const {
             {"threads", threads},
             {"stop_reason", toString(stopReason)},
             {"memory", memory.toJson()}};
+}
+
+void checkRenderMemory(const Scene& scene, const RenderSettings& settings) {
+    std::unique_ptr<Accelerator> accel = createAccelerator(settings.accelerator, scene.geometry);
+    checkMemory(scene, *accel, *createIntegrator(scene, *accel, settings), settings);
 }
 
 RenderResult render(const Scene& scene, const RenderSettings& settings,

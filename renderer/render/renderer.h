@@ -86,6 +86,11 @@ struct RenderResult {
     RenderStats stats;
 };
 
+/// Throws InputError naming the setting at fault when the render would need more than
+/// settings.memory_limit (what render() checks before its first pass). Builds the accelerator and
+/// runs the integrator's pilot to know: for a service to refuse a job before queueing it.
+void checkRenderMemory(const Scene& scene, const RenderSettings& settings);
+
 /// Renders `scene` with `settings`. Throws InputError for settings the scene cannot use.
 RenderResult render(const Scene& scene, const RenderSettings& settings,
                     const RenderCallbacks& callbacks = {});

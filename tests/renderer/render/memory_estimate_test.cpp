@@ -53,7 +53,16 @@ TEST(MemoryEstimate, BoundsWhatTheExampleScenesBuild) {
     }
 }
 
-// The photon bound against render()'s check, a pilot tracing of 8192 paths per kind.
+// What render() checks the photon maps against: a pilot tracing of 8192 paths per kind.
+size_t pilotPeakBytes(const Scene& scene, const Accelerator& accel, const RenderSettings& s) {
+    PhotonIntegrator::Options o;
+    o.photons = uint64_t(s.photons);
+    o.causticPhotons = uint64_t(s.causticPhotons);
+    o.maxDepth = s.maxDepth;
+    return PhotonIntegrator(scene, accel, o).estimatedPeakBytes();
+}
+
+// The photon bound against render()'s own check.
 TEST(MemoryEstimate, PhotonMapsBoundThePilotEstimate) {
     for (const char* name : kExamples) {
         auto scene = loadScene(exampleScene(name, 16, 16), repoSceneOptions());
@@ -63,11 +72,7 @@ TEST(MemoryEstimate, PhotonMapsBoundThePilotEstimate) {
             SCOPED_TRACE(std::string(name) + " " + photonSettings.dump());
             photonSettings["integrator"] = "photon";
             const RenderSettings settings = settingsFrom(photonSettings);
-            PhotonIntegrator::Options o;
-            o.photons = uint64_t(settings.photons);
-            o.causticPhotons = uint64_t(settings.causticPhotons);
-            o.maxDepth = settings.maxDepth;
-            const size_t pilot = PhotonIntegrator(*scene, *accel, o).estimatedPeakBytes();
+            const size_t pilot = pilotPeakBytes(*scene, *accel, settings);
             const size_t estimate = estimateMemory(*scene, settings).photonMaps;
             EXPECT_GE(estimate, pilot);
             // The bound's price, measured: 4.3-5.4x the pilot with the default max_depth (the
