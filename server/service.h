@@ -7,6 +7,7 @@
 #include <string>
 
 #include "jobs/job_events.h"
+#include "jobs/job_service.h"
 #include "jobs/worker_pool.h"
 #include "server_config.h"
 #include "store/job_files.h"
@@ -33,8 +34,6 @@ public:
     void stop();
 
 private:
-    void routes();
-
     ServerConfig config_;
     int lockFd_ = -1;
     int faultFd_ = -1;  ///< The fault record, written only when the process dies of a fault.
@@ -44,6 +43,7 @@ private:
     RenderCounters counters_;
     std::string owner_;
     std::unique_ptr<WorkerPool> workers_;
+    std::unique_ptr<JobService> jobs_;
     std::unique_ptr<httplib::Server> http_;
     std::atomic<int> eventStreams_{0};
     std::atomic<bool> stopping_{false};

@@ -218,6 +218,16 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
     return s;
 }
 
+void Geometry::shrinkToFit() {
+    kind_.shrink_to_fit();
+    local_.shrink_to_fit();
+    material_.shrink_to_fit();
+    spheres_.shrink_to_fit();
+    quads_.shrink_to_fit();
+    positions_.shrink_to_fit();
+    triangles_.shrink_to_fit();
+}
+
 size_t Geometry::memoryBytes() const {
     return kind_.capacity() * sizeof(PrimKind) + local_.capacity() * sizeof(uint32_t) +
            material_.capacity() * sizeof(uint32_t) + spheres_.capacity() * sizeof(Sphere) +

@@ -42,6 +42,10 @@ public:
     uint32_t addTriangles(const std::vector<Vec3>& positions,
                           const std::vector<glm::uvec3>& triangles, uint32_t material);
 
+    /// Frees the arrays' spare capacity (growth leaves up to half of each unused): called once
+    /// every primitive is in, so that memoryBytes() is what the counts say.
+    void shrinkToFit();
+
     uint32_t size() const { return static_cast<uint32_t>(kind_.size()); }
     PrimKind kind(uint32_t prim) const { return kind_[prim]; }
     uint32_t material(uint32_t prim) const { return material_[prim]; }

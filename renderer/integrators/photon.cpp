@@ -86,10 +86,14 @@ size_t PhotonIntegrator::estimatedPeakBytes() const {
     stored += settings_.causticPhotons > 0
                   ? double(settings_.causticPhotons) * storedPerPath(true).first
                   : double(settings_.photons) * caustic;
+    return peakBytes(stored);
+}
+
+size_t PhotonIntegrator::peakBytes(double storedPhotons) {
     // Tracing holds each photon twice while it joins the chunks (80 bytes); a map then holds 40
     // bytes a photon, 16 in the tree and 12 of positions while it builds. A 10% margin covers the
     // pilot's sampling error.
-    return size_t(1.1 * 80.0 * stored);
+    return size_t(1.1 * 80.0 * storedPhotons);
 }
 
 void PhotonIntegrator::checkMemory(size_t budgetBytes) const {

@@ -54,6 +54,8 @@ public:
     /// kPilotPaths paths of each kind (a few milliseconds).
     size_t estimatedPeakBytes() const;
     static constexpr uint64_t kPilotPaths = 8192;
+    /// Peak bytes of one pass that stores `storedPhotons` photons (global and caustic maps).
+    static size_t peakBytes(double storedPhotons);
 
 private:
     PhotonTracingOptions tracingOptions(uint32_t pass, bool causticOnly) const;

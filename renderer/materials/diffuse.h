@@ -17,6 +17,8 @@ public:
     int specularLobes(const Vec3&, const Vec3&, TransportMode, SpecularLobe[2]) const override {
         return 0;
     }
+    /// The weight is the albedo (cosine-weighted sampling, diffuse.cpp).
+    float maxScatterWeight() const override { return maxComponent(albedo_); }
     const Color& albedo() const { return albedo_; }
 
 private:

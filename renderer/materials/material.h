@@ -50,6 +50,10 @@ public:
     virtual int specularLobes(const Vec3& wo, const Vec3& n, TransportMode mode,
                               SpecularLobe out[2]) const = 0;
 
+    /// An upper bound on every channel of the weight `sample` returns (f |cos theta_i| / pdf): the
+    /// most of a path's throughput one scattering keeps. 1 unless a material knows better.
+    virtual float maxScatterWeight() const { return 1.0f; }
+
     /// True when every lobe is a Dirac delta (mirror, dielectric): no light sampling is possible.
     bool isSpecular() const { return specular_; }
     bool isEmissive() const { return !isBlack(emission_); }

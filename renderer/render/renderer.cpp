@@ -11,10 +11,6 @@ using Clock = Interrupt::Clock;
 
 }  // namespace
 
-void checkRenderMemory(const Scene& scene, const RenderSettings& settings) {
-    RenderSession session(scene, settings);
-}
-
 RenderStats renderPasses(RenderSession& session, Film& film, const RenderCallbacks& callbacks) {
     const Camera& camera = session.scene().camera;
     if (film.width() != camera.width() || film.height() != camera.height())

@@ -19,10 +19,6 @@ struct RenderResult {
     RenderStats stats;
 };
 
-/// Throws InputError naming the setting at fault when the render would need more than
-/// settings.memory_limit (what a RenderSession checks when it is built).
-void checkRenderMemory(const Scene& scene, const RenderSettings& settings);
-
 /// Renders every pass of `session`'s budget onto `film` (a checkpoint of the same scene and
 /// settings, or an empty film): the render goes on from film.passSet().end(), and its image is
 /// bit-identical to an uninterrupted render's. The time limit counts from this call.

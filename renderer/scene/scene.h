@@ -15,6 +15,7 @@
 #include "lights/light_sampler.h"
 #include "materials/material.h"
 #include "scene/camera.h"
+#include "scene/mesh_counts.h"
 
 namespace caustic {
 
@@ -34,6 +35,14 @@ struct Scene {
     Color background{0.0f};
     /// The scene file's "settings" object: defaults a job's own settings override.
     nlohmann::json settings = nlohmann::json::object();
+    /// With SceneOptions::countMeshesOnly, the meshes validated but not loaded: their counts and
+    /// material. Their triangles are in neither `geometry` nor `lights`: such a scene is for
+    /// estimating memory (render/memory_estimate.h), never for rendering.
+    struct CountedMesh {
+        MeshCounts counts;
+        uint32_t material = 0;
+    };
+    std::vector<CountedMesh> countedMeshes;
 
     const Material& material(uint32_t prim) const { return *materials[geometry.material(prim)]; }
     /// The area light of an emissive primitive and the probability that the light sampler picks
@@ -51,6 +60,11 @@ struct SceneOptions {
     /// Largest resolution accepted, per side and in pixels.
     int maxResolution = 16384;
     int64_t maxPixels = int64_t(16384) * 16384;
+    /// Validate every field and find every mesh file, but read only the meshes' counts (a line
+    /// scan; Scene::countedMeshes) instead of loading them: for a service admitting a job.
+    bool countMeshesOnly = false;
+    /// With countMeshesOnly, where counts of files already scanned are kept (none: scan each).
+    MeshCountCache* meshCounts = nullptr;
 };
 
 /// Builds a scene from its JSON document (DESIGN.md, "Scene format"). Throws InputError naming the

@@ -164,8 +164,15 @@ void readShape(const Json& j, const std::string& path, Scene& scene, const Scene
         if (const Json* t = o.find("transform"))
             transform = readTransform(*t, o.pathOf("transform"), frame);
         std::filesystem::path full = resolveAsset(options.assetsDir, file, o.pathOf("file"));
-        TriangleMesh mesh = loadObj(full, transform, o.pathOf("file"));
-        scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
+        if (options.countMeshesOnly) {
+            MeshCounts counts = options.meshCounts
+                                    ? options.meshCounts->counts(full, o.pathOf("file"))
+                                    : countObj(full, o.pathOf("file"));
+            scene.countedMeshes.push_back({counts, material});
+        } else {
+            TriangleMesh mesh = loadObj(full, transform, o.pathOf("file"));
+            scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
+        }
     }
     o.finish();
 }
@@ -218,6 +225,7 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
         scene->settings = *settings;
     }
     root.finish();
+    scene->geometry.shrinkToFit();
 
     // Every emissive primitive is an area light.
     scene->firstAreaLight = scene->lights.size();

@@ -1,30 +1,42 @@
-// The HTTP API's routes (DESIGN.md, "Service"; described by server/http/openapi.json).
+// The HTTP API's routes (DESIGN.md, "Service"; described by server/http/openapi.json), one file
+// per resource. Handlers translate requests into calls of the job service (jobs/job_service.h)
+// and its results into responses; the policy is the service's.
 #pragma once
 
 #include <atomic>
 
 #include <httplib.h>
 
-#include "jobs/job_events.h"
+#include "jobs/job_service.h"
 #include "jobs/worker_pool.h"
 #include "server_config.h"
-#include "store/job_files.h"
-#include "store/job_store.h"
 
 namespace caustic::server {
 
 struct ApiContext {
     const ServerConfig& config;
-    JobStore& store;
-    const JobFiles& files;
-    JobEvents& events;
+    JobService& jobs;
     RenderCounters& counters;
-    WorkerPool& workers;
     std::atomic<int>& eventStreams;
     const std::atomic<bool>& stopping;
 };
 
-/// Registers every route, the bearer-token check, the error bodies and the static files.
+/// Registers every route, the guards (http/guards.h), the error bodies and the static files.
 void registerRoutes(httplib::Server& http, ApiContext& api);
+
+/// The jobs: submit, list, read, follow (Server-Sent Events), images, cancel, delete.
+void registerJobRoutes(httplib::Server& http, ApiContext& api);
+/// Follows a job as Server-Sent Events until it ends or is deleted (GET /api/jobs/{id}/events).
+void streamJobEvents(ApiContext& api, const std::string& id, httplib::Response& res);
+/// The example scenes, the settings table and the OpenAPI document.
+void registerSceneRoutes(httplib::Server& http, ApiContext& api);
+/// /healthz and /metrics.
+void registerHealthRoutes(httplib::Server& http, ApiContext& api);
+
+/// Answers `status` with `body` as application/json.
+inline void sendJson(httplib::Response& res, int status, const Json& body) {
+    res.status = status;
+    res.set_content(body.dump(), "application/json");
+}
 
 }  // namespace caustic::server

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
-#include "render/renderer.h"
+#include "render/memory_estimate.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 
@@ -62,6 +62,11 @@ std::vector<std::string> exampleSceneNames(const fs::path& scenesDir) {
 }
 
 Job prepareJob(const Json& body, const ServerConfig& config) {
+    MeshCountCache uncached;
+    return prepareJob(body, config, uncached);
+}
+
+Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& meshCounts) {
     if (!body.is_object()) throw InputError("/", "expected an object, got " + jsonTypeName(body));
     for (auto it = body.begin(); it != body.end(); ++it)
         if (it.key() != "scene" && it.key() != "settings")
@@ -77,6 +82,8 @@ Job prepareJob(const Json& body, const ServerConfig& config) {
     options.assetsDir = config.assetsDir;
     options.maxResolution = limits.maxResolution;
     options.maxPixels = limits.maxPixels;
+    options.countMeshesOnly = true;
+    options.meshCounts = &meshCounts;
     std::unique_ptr<Scene> scene;
     try {
         scene = loadScene(job.scene, options);
@@ -106,7 +113,7 @@ Job prepareJob(const Json& body, const ServerConfig& config) {
     if (config.renderThreads > 0 &&
         (settings.threads == 0 || settings.threads > config.renderThreads))
         settings.threads = config.renderThreads;
-    checkRenderMemory(*scene, settings);
+    checkMemoryEstimate(*scene, settings);
 
     job.settings = settings.toJson();
     return job;

@@ -1,0 +1,161 @@
+#include "render/memory_estimate.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "core/error.h"
+#include "integrators/photon.h"
+#include "lights/light.h"
+
+namespace caustic {
+namespace {
+
+// Accelerator bytes: a fixed part plus a part per primitive. Not a bound: a kd-tree's size depends
+// on how many primitives straddle its splits, which no count tells. Measured (memoryBytes() after
+// a build, 2026-12-01): Embree 83-93 bytes a primitive on the bunny, teapot, spot and a
+// 1M-triangle grid, 3.9 KB for the 8 primitives of cornell-spheres; our kd-tree 98-154 bytes a
+// primitive on those meshes, 170 on the 18 quads of cornell-box. The figures below hold them with
+// a margin (tests/renderer/render/memory_estimate_test.cpp); render() checks what it built.
+constexpr size_t kAccelFixedBytes = size_t(16) << 10;
+constexpr size_t kEmbreeBytesPerPrim = 128;
+constexpr size_t kKdTreeBytesPerPrim = 256;
+
+size_t mib(size_t bytes) {
+    return (bytes + (size_t(1) << 20) - 1) >> 20;
+}
+
+// The settings the photon budget depends on.
+struct PhotonBudget {
+    uint64_t photons = 0, causticPhotons = 0;
+    int maxDepth = 0;
+};
+
+PhotonBudget photonBudget(const RenderSettings& s) {
+    return {s.photon.photons, s.photon.causticPhotons, s.maxDepth};
+}
+
+struct Counts {
+    uint64_t prims = 0, vertices = 0, triangles = 0;
+    uint64_t lights = 0, emitters = 0;  // emitters: emissive primitives, each an area light
+    bool emits = false;                 // a light of nonzero power exists
+};
+
+Counts countScene(const Scene& scene) {
+    const Geometry& g = scene.geometry;
+    Counts c{g.size(),
+             g.positions().size(),
+             g.triangles().size(),
+             scene.lights.size(),
+             scene.emitterPrims.size(),
+             !scene.lightSampler.empty()};
+    for (const Scene::CountedMesh& mesh : scene.countedMeshes) {
+        c.prims += mesh.counts.triangles;
+        c.vertices += mesh.counts.vertices;
+        c.triangles += mesh.counts.triangles;
+        if (scene.materials[mesh.material]->isEmissive()) {
+            c.lights += mesh.counts.triangles;
+            c.emitters += mesh.counts.triangles;
+            c.emits = true;
+        }
+    }
+    return c;
+}
+
+size_t geometryBytes(const Scene& scene, const Counts& c) {
+    // The loader shrinks every array to its size (Geometry::shrinkToFit).
+    return c.prims * (sizeof(PrimKind) + 2 * sizeof(uint32_t)) +
+           scene.geometry.spheres().size() * sizeof(Sphere) +
+           scene.geometry.quads().size() * sizeof(Quad) + c.vertices * sizeof(Vec3) +
+           c.triangles * sizeof(glm::uvec3);
+}
+
+size_t acceleratorBytes(const std::string& name, const Counts& c) {
+    if (name == "bruteforce" || c.prims == 0) return 0;
+    return kAccelFixedBytes +
+           c.prims * (name == "embree" ? kEmbreeBytesPerPrim : kKdTreeBytesPerPrim);
+}
+
+size_t lightTableBytes(const Counts& c) {
+    if (!c.emits) return 0;
+    // LightSampler: two arrays grown by push_back (capacity under twice the size), the cdf and the
+    // pmf by light; then the emitter index, grown by push_back.
+    return c.lights * 2 * (sizeof(const Light*) + sizeof(size_t)) +
+           (2 * c.lights + 1) * sizeof(float) + c.emitters * 2 * sizeof(uint32_t);
+}
+
+bool hasSpecular(const Scene& scene) {
+    return std::any_of(scene.materials.begin(), scene.materials.end(),
+                       [](const auto& m) { return m->isSpecular(); });
+}
+
+size_t photonPeakBytes(const Scene& scene, const RenderSettings& settings, const Counts& c) {
+    if (settings.integrator != "photon" && settings.integrator != "ppm") return 0;
+    if (!c.emits) return 0;
+    const PhotonBudget budget = photonBudget(settings);
+    const double perPath = storedPhotonsPerPathBound(scene, budget.maxDepth);
+    // A path stores at most one caustic photon: the first non-specular hit after specular ones
+    // only (photons/photon_tracer.cpp). Without specular materials there is none.
+    const double caustic = hasSpecular(scene) && perPath > 0 ? 1.0 : 0.0;
+    double stored = double(budget.photons) * perPath;
+    stored += double(budget.causticPhotons > 0 ? budget.causticPhotons : budget.photons) * caustic;
+    return PhotonIntegrator::peakBytes(stored);
+}
+
+}  // namespace
+
+size_t filmBytes(int width, int height) {
+    // As render/renderer.cpp's checkMemory counts it.
+    return size_t(width) * size_t(height) * (6 * sizeof(double) + sizeof(Color));
+}
+
+// Photon tracing stores a photon at each non-specular hit, at most one per bounce: at most
+// max_depth a path. Russian roulette bounds the expectation better (photons/photon_tracer.cpp,
+// after pbrt-v4 15.1): after a stored photon the path goes on with probability
+// q = min(1, max(beta * w) / max(beta)) <= max(w) <= rho, where w is the sample weight, at most
+// rho for every non-specular material (Material::maxScatterWeight). So a path stores another
+// photon with probability at most rho each time, and E[stored] <= sum_k rho^k = 1 / (1 - rho).
+double storedPhotonsPerPathBound(const Scene& scene, int maxDepth) {
+    double rho = -1;  // no non-specular material: no photon is ever stored
+    for (const auto& m : scene.materials)
+        if (!m->isSpecular()) rho = std::max(rho, double(m->maxScatterWeight()));
+    if (rho < 0) return 0;
+    return rho < 1 ? std::min(double(maxDepth), 1.0 / (1.0 - rho)) : double(maxDepth);
+}
+
+MemoryEstimate estimateMemory(const Scene& scene, const RenderSettings& settings) {
+    const Counts c = countScene(scene);
+    MemoryEstimate e;
+    e.geometry = geometryBytes(scene, c);
+    e.accelerator = acceleratorBytes(settings.accelerator, c);
+    e.film = filmBytes(scene.camera.width(), scene.camera.height());
+    e.lightTables = lightTableBytes(c);
+    e.photonMaps = photonPeakBytes(scene, settings, c);
+    return e;
+}
+
+void checkMemoryEstimate(const Scene& scene, const RenderSettings& settings) {
+    const size_t limit = settings.memoryLimitBytes();
+    const MemoryEstimate e = estimateMemory(scene, settings);
+    if (e.beforePasses() > limit)
+        throw InputError("/settings/memory_limit",
+                         "the scene, its accelerator and the film would take about " +
+                             std::to_string(mib(e.beforePasses())) +
+                             " MiB (estimated from counts), more than the limit of " +
+                             std::to_string(limit >> 20) + " MiB");
+    const size_t left = limit - e.beforePasses();
+    if (e.photonMaps <= left) return;
+    const PhotonBudget budget = photonBudget(settings);
+    const bool caustics = budget.causticPhotons > budget.photons;
+    char perPath[32];
+    std::snprintf(perPath, sizeof perPath, "%.1f",
+                  storedPhotonsPerPathBound(scene, budget.maxDepth));
+    throw InputError(caustics ? "/settings/caustic_photons" : "/settings/photons",
+                     "the photon maps of a pass could need about " +
+                         std::to_string(mib(e.photonMaps)) +
+                         " MiB (estimated from counts, at most " + perPath +
+                         " stored photons a path), more than the " + std::to_string(mib(left)) +
+                         " MiB the memory limit leaves; lower it or raise memory_limit");
+}
+
+}  // namespace caustic

@@ -1,0 +1,92 @@
+#include "http/guards.h"
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include "http/problem.h"
+
+namespace caustic::server {
+namespace {
+
+bool mutating(const std::string& method) {
+    return method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE";
+}
+
+// Compares without an early exit, so that timing does not tell how much of a token was right.
+bool sameToken(const std::string& given, const std::string& token) {
+    if (given.size() != token.size() || token.empty()) return false;
+    unsigned char diff = 0;
+    for (size_t i = 0; i < token.size(); ++i) diff |= uint8_t(given[i] ^ token[i]);
+    return diff == 0;
+}
+
+// "Bearer <token>"; the scheme is case-insensitive (RFC 9110, section 11.1), the token is not.
+bool authorized(const std::string& auth, const std::string& token) {
+    const std::string prefix = "bearer ";
+    return auth.size() >= prefix.size() &&
+           std::equal(prefix.begin(), prefix.end(), auth.begin(),
+                      [](char a, char b) { return a == std::tolower((unsigned char)b); }) &&
+           sameToken(auth.substr(prefix.size()), token);
+}
+
+httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
+                                              const httplib::Request& req, httplib::Response& res) {
+    // Answered here, before cpp-httplib reads the body: the client must close the connection, or
+    // its next request on it would be read from the body left unread.
+    auto refuse = [&res](int status, const std::string& detail) {
+        res.set_header("Connection", "close");
+        sendProblem(res, status, detail);
+        return httplib::Server::HandlerResponse::Handled;
+    };
+    // A decoded %00 would cut a static file's name short ("/index.html%00.png").
+    if (req.path.find('\0') != std::string::npos) return refuse(400, "the path has a NUL byte");
+    // Only a Content-Length holds a body to --max-request-bytes: cpp-httplib reads chunked and
+    // compressed bodies whole, whatever their size, and a POST with neither header until the
+    // connection closes.
+    if (req.has_header("Transfer-Encoding"))
+        return refuse(411, "send the body with a Content-Length, not chunked");
+    if (const std::string coding = req.get_header_value("Content-Encoding");
+        !coding.empty() && coding != "identity")
+        return refuse(415, "compressed bodies (Content-Encoding) are not accepted");
+    // A request with neither header has no body (RFC 9112, section 6.3), as in
+    // `curl -X POST .../cancel`. `req` is the server's own, not a const object.
+    if (!req.has_header("Content-Length"))
+        const_cast<httplib::Request&>(req).set_header("Content-Length", "0");
+
+    if (config.token.empty() || !mutating(req.method) ||
+        authorized(req.get_header_value("Authorization"), config.token))
+        return httplib::Server::HandlerResponse::Unhandled;
+    res.set_header("WWW-Authenticate", "Bearer");
+    return refuse(401, "this server needs \"Authorization: Bearer <token>\" to change jobs");
+}
+
+}  // namespace
+
+void installGuards(httplib::Server& http, const ServerConfig& config) {
+    http.set_pre_routing_handler([&config](const httplib::Request& req, httplib::Response& res) {
+        return checkRequest(config, req, res);
+    });
+    // Every error without a body of its own (unknown routes, a body over the limit) gets one.
+    http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+        if (res.body.empty()) {
+            std::string detail = res.status == 413   ? "the request body is over the size limit"
+                                 : res.status == 404 ? "no such resource"
+                                                     : statusTitle(res.status);
+            sendProblem(res, res.status, detail);
+        }
+    });
+    http.set_exception_handler(
+        [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+            std::string what = "internal error";
+            try {
+                std::rethrow_exception(ep);
+            } catch (const std::exception& e) {
+                what = std::string("internal error: ") + e.what();
+            } catch (...) {
+            }
+            sendProblem(res, 500, what);
+        });
+}
+
+}  // namespace caustic::server
