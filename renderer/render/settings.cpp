@@ -391,9 +391,22 @@ Json RenderSettings::toJson() const {
 }
 
 Json parseSettingValue(const std::string& text) {
-    Json v = Json::parse(text, nullptr, /*allow_exceptions=*/false);
-    if (v.is_discarded()) return Json(text);
-    return v;
+    // Text nested deeper than a scene may be stays a string, which no setting takes: merging the
+    // settings copies values recursively, and 40000 levels (an argument holds 65000) overflowed
+    // the stack of a sanitizer build (issue 12, bug 3).
+    struct TooDeep {};
+    try {
+        Json v = Json::parse(
+            text,
+            [](int depth, Json::parse_event_t, Json&) {
+                if (depth > kMaxJsonDepth) throw TooDeep{};
+                return true;
+            },
+            /*allow_exceptions=*/false);
+        if (!v.is_discarded()) return v;
+    } catch (const TooDeep&) {
+    }
+    return Json(text);
 }
 
 }  // namespace caustic

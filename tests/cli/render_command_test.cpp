@@ -1,52 +1,18 @@
 // The CLI as a user runs it: a real process, real files.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
+
+#include "cli/cli_run.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-struct CliRun {
-    int exitCode;
-    std::string output;  // stdout and stderr together
-};
-
-CliRun runCli(const std::string& args) {
-    std::string cmd = std::string(CAUSTIC_CLI_PATH) + " " + args + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    CliRun r{-1, ""};
-    if (!pipe) return r;
-    std::array<char, 4096> buf{};
-    while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-    int status = pclose(pipe);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-// A scratch folder per test, removed when the test ends.
-class CliRender : public ::testing::Test {
-protected:
-    void TearDown() override { fs::remove_all(dir_); }
-    fs::path tempDir() {
-        fs::create_directories(dir_);
-        return dir_;
-    }
-
-private:
-    fs::path dir_ = fs::temp_directory_path() /
-                    ("caustic-cli-test-" + std::to_string(getpid()) + "-" +
-                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
-};
-
-void writeFile(const fs::path& p, const std::string& text) {
-    std::ofstream(p) << text;
-}
+using caustic::testing::CliRender;
+using caustic::testing::CliRun;
+using caustic::testing::runCli;
+using caustic::testing::writeFile;
 
 const char* kTinyScene = R"({
   "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "width": 16, "height": 12},

@@ -19,6 +19,7 @@
 #include "renderer/scene/base_scene.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
+#include "support/temp_dir.h"
 #include "support/test_scenes.h"
 
 namespace caustic {
@@ -27,6 +28,7 @@ namespace {
 using testing::baseScene;
 using testing::patched;
 using testing::repoSceneOptions;
+using testing::TempDir;
 using testing::without;
 
 Json withShape(const Json& shape) {
@@ -59,29 +61,6 @@ void expectSceneError(const Json& doc, const std::string& path, const std::strin
     } while (0)
 #define EXPECT_SCENE_ERROR(doc, path, message) \
     EXPECT_SCENE_ERROR_WITH(doc, path, message, repoSceneOptions())
-
-// A scratch folder, unique to this process and test, removed at the end of the test.
-class TempDir {
-public:
-    TempDir() {
-        const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = std::filesystem::temp_directory_path() /
-                ("caustic-" + std::string(info->name()) + "-" + std::to_string(getpid()));
-        std::filesystem::remove_all(path_);
-        std::filesystem::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    const std::filesystem::path& path() const { return path_; }
-    void write(const std::string& name, const std::string& text) const {
-        std::ofstream(path_ / name) << text;
-    }
-
-private:
-    std::filesystem::path path_;
-};
 
 // --- camera ---
 
