@@ -1,14 +1,17 @@
-// The kd-tree over scenes whose extent overflows float: a sphere of radius 3e38 beside a mesh of
-// more than 64 triangles (so the root is split by binned SAH) once cast NaN to int in the binning
-// (issue 12, bug 2; undefined behaviour, which the sanitizer build reports) and, with the SAH cost
-// NaN, left every primitive in one leaf. Any finite scene must build and agree with brute force.
+// The kd-tree at its edges, each case once undefined behaviour that the sanitizer build reports.
+// Scenes whose extent overflows float: a sphere of radius 3e38 beside a mesh of more than 64
+// triangles (so the root is split by binned SAH) cast NaN to int in the binning (issue 12, bug 2)
+// and, with the SAH cost NaN, left every primitive in one leaf. Any finite scene must build and
+// agree with brute force. And a tree whose leaves are empty or hold one primitive each.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "accel/bruteforce.h"
 #include "accel/kdtree/kdtree.h"
 #include "renderer/accel/ray_sets.h"
+#include "scene/mesh_loader.h"
 #include "support/accel_agreement.h"
 #include "support/test_scenes.h"
 
@@ -65,6 +68,28 @@ TEST(KdTreeExtremes, SphereOfRadius3e38BesideAMesh) {
 TEST(KdTreeExtremes, SphereReachingPastTheLargestFloat) {
     // Its box reaches 6e38 on one side, which float holds only as infinity.
     expectKdTreeMatchesBruteForce(hugeSphereScene(3e38, 3e38));
+}
+
+// Found by tests/fuzz/obj_fuzzer (minimized): a segment (a triangle of no area) on the x axis and a
+// triangle give a tree of an empty leaf and one-primitive leaves, so the leaves' index array is
+// empty, and the traversal took &primIndices_[0] of it on entering the empty leaf.
+TEST(KdTreeExtremes, EmptyLeafBesideOnePrimitiveLeaves) {
+    std::istringstream obj("v 0 0 0\nv 2 0 0\nv -1 0 0\nv -5 0 0\nv 0 7 9\nf 2 1 2\nf 3 4 5\n");
+    TriangleMesh mesh = parseObj(obj, "empty-leaf.obj", MeshTransform{}, "/file");
+    Geometry g;
+    g.addTriangles(mesh.positions, mesh.triangles, 0);
+    KdTreeAccel kdtree(g);
+    BruteForceAccel brute(g);
+    const KdTreeStats& stats = kdtree.stats();
+    ASSERT_GT(stats.emptyLeaves, 0u);
+    ASSERT_EQ(stats.references, stats.leaves - stats.emptyLeaves) << "a leaf holds two";
+
+    // Through every leaf.
+    Rng rng(13);
+    std::vector<Ray> rays;
+    testing::addRandomRays(g.bounds(), 2000, rng, rays);
+    testing::addAxisAlignedRays(g.bounds(), 1000, rng, rays);
+    EXPECT_EQ(testing::firstDisagreement(kdtree, brute, rays), std::nullopt);
 }
 
 }  // namespace
