@@ -394,19 +394,8 @@ Json parseSettingValue(const std::string& text) {
     // Text nested deeper than a scene may be stays a string, which no setting takes: merging the
     // settings copies values recursively, and 40000 levels (an argument holds 65000) overflowed
     // the stack of a sanitizer build (issue 12, bug 3).
-    struct TooDeep {};
-    try {
-        Json v = Json::parse(
-            text,
-            [](int depth, Json::parse_event_t, Json&) {
-                if (depth > kMaxJsonDepth) throw TooDeep{};
-                return true;
-            },
-            /*allow_exceptions=*/false);
-        if (!v.is_discarded()) return v;
-    } catch (const TooDeep&) {
-    }
-    return Json(text);
+    std::optional<Json> v = tryParseJson(text);
+    return v ? std::move(*v) : Json(text);
 }
 
 }  // namespace caustic

@@ -72,6 +72,26 @@ void checkJsonDepth(const Json& j, const std::string& path, int maxDepth) {
     }
 }
 
+std::optional<Json> tryParseJson(const std::string& text, int maxDepth) {
+    struct TooDeep {};
+    try {
+        // The callback's depth counts the arrays and objects around an event: an array or object
+        // starting at depth d is level d + 1.
+        Json doc = Json::parse(
+            text,
+            [maxDepth](int depth, Json::parse_event_t event, Json&) {
+                bool opens = event == Json::parse_event_t::object_start ||
+                             event == Json::parse_event_t::array_start;
+                if (opens && depth >= maxDepth) throw TooDeep{};
+                return true;
+            },
+            /*allow_exceptions=*/false);
+        if (!doc.is_discarded()) return doc;
+    } catch (const TooDeep&) {
+    }
+    return std::nullopt;
+}
+
 namespace {
 
 std::string joinNames(std::vector<std::string> names) {

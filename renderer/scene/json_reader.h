@@ -31,6 +31,10 @@ inline constexpr int kMaxJsonDepth = 64;
 /// copy and comparison recurse once per level and overflow the call stack at about 1e5 levels.
 void checkJsonDepth(const Json& j, const std::string& path, int maxDepth = kMaxJsonDepth);
 
+/// Parses JSON text of at most `maxDepth` levels of arrays and objects; nullopt when the text is
+/// not JSON or nests deeper (found while parsing, before a deep document exists).
+std::optional<Json> tryParseJson(const std::string& text, int maxDepth = kMaxJsonDepth);
+
 /// Reads a scalar or vector value at `path`; throws InputError on a wrong type or non-finite value.
 float readNumber(const Json& j, const std::string& path);
 /// A finite number kept in double (positions, before they are made camera-relative).

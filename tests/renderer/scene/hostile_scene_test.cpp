@@ -88,6 +88,16 @@ TEST(HostileScenes, DepthCheckWalksAnyShape) {
     }
 }
 
+TEST(HostileScenes, TryParseJsonRefusesDeepTextWhileParsing) {
+    EXPECT_EQ(tryParseJson(nestedObjects(64)), parseJson(nestedObjects(64)));
+    EXPECT_EQ(tryParseJson(nestedObjects(65)), std::nullopt);
+    EXPECT_EQ(tryParseJson(nestedObjects(1000000)), std::nullopt);
+    EXPECT_EQ(tryParseJson("[[1]]", 2), Json::parse("[[1]]"));
+    EXPECT_EQ(tryParseJson("[[1]]", 1), std::nullopt);
+    EXPECT_EQ(tryParseJson("{\"a\": "), std::nullopt);
+    EXPECT_EQ(tryParseJson("7"), Json(7));
+}
+
 TEST(HostileScenes, SettingValuesNestedTooDeepStayText) {
     std::string deep = std::string(100000, '[') + std::string(100000, ']');
     EXPECT_EQ(parseSettingValue(deep), Json(deep));
