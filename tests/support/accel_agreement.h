@@ -1,9 +1,10 @@
-// Exact agreement of two accelerators that share every primitive test (the kd-tree and brute
-// force): the same hit or miss, the same distance to the bit, the same primitive unless another
-// one ties at that distance, and the same occlusion answers. For tests and the scene fuzzer
-// (tests/fuzz/scene_fuzzer.cpp), so it reports instead of asserting.
+// Agreement of two accelerators that share every primitive test (the kd-tree and brute force): the
+// same hit or miss, the same distance up to rounding, the same primitive unless another one ties
+// at that distance, and the same occlusion answers. For tests and the fuzz targets
+// (tests/fuzz/fuzz_support.h), so it reports instead of asserting.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -22,6 +23,12 @@ inline std::string describeHit(const std::optional<Hit>& h) {
     return buf;
 }
 
+/// Where a ray crosses a quad's diagonal both of its triangles are hit, a few ulps apart: brute
+/// force meets the quad once and keeps the first, the kd-tree may meet it again in another leaf
+/// and keep the closer. Distances agree to this fraction of the ray's scale (its distance and
+/// origin); measured differences are about 1e-7.
+inline constexpr float kDistanceTolerance = 1e-6f;
+
 /// The first ray on which `tested` and `reference` disagree, described; nullopt when they agree on
 /// every ray.
 inline std::optional<std::string> firstDisagreement(const Accelerator& tested,
@@ -30,11 +37,16 @@ inline std::optional<std::string> firstDisagreement(const Accelerator& tested,
     for (const Ray& ray : rays) {
         std::optional<Hit> a = tested.intersect(ray, kInfinity);
         std::optional<Hit> b = reference.intersect(ray, kInfinity);
-        // A different primitive is a tie only at the same distance, which `t` compares.
-        bool same = a.has_value() == b.has_value() && (!a || a->t == b->t);
-        // Occlusion before the hit, at it (exclusive) and past it; anywhere for a miss.
-        float tHit = b ? b->t : kInfinity;
-        for (float tMax : {0.5f * tHit, tHit, std::nextafter(tHit, kInfinity), kInfinity})
+        bool same = a.has_value() == b.has_value();
+        // A different primitive at the same distance is a tie.
+        if (same && a) {
+            float scale = std::max({a->t, b->t, maxComponent(glm::abs(ray.o))});
+            same = std::abs(a->t - b->t) <= kDistanceTolerance * scale;
+        }
+        // Occlusion halfway to the hit and past it; anywhere for a miss.
+        std::vector<float> tMaxes{kInfinity};
+        if (b) tMaxes.insert(tMaxes.end(), {0.5f * b->t, 2.0f * b->t});
+        for (float tMax : tMaxes)
             same = same && tested.occluded(ray, tMax) == reference.occluded(ray, tMax);
         if (same) continue;
         char buf[160];
