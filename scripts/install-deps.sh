@@ -18,6 +18,9 @@ packages=(
     libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv wrk curl
     # Browser tests of the web page (tests/web/run.sh: playwright-core from npm drives Chromium)
     chromium nodejs npm
+    # Sanitizers and fuzzing (cmake/sanitize.cmake): GCC's ASan and UBSan come with build-essential;
+    # the fuzz targets need clang with libFuzzer, LLVM's OpenMP, and llvm-symbolizer for the stacks
+    clang libclang-rt-14-dev libomp-14-dev llvm
 )
 
 sudo_cmd=()

@@ -124,9 +124,11 @@ Json RenderSettings::toJson() const {
 }
 
 Json parseSettingValue(const std::string& text) {
-    Json v = Json::parse(text, nullptr, /*allow_exceptions=*/false);
-    if (v.is_discarded()) return Json(text);
-    return v;
+    // Text nested deeper than a scene may be stays a string, which no setting takes: merging the
+    // settings copies values recursively, and 40000 levels (an argument holds 65000) overflowed
+    // the stack of a sanitizer build (issue 12, bug 3).
+    std::optional<Json> v = tryParseJson(text);
+    return v ? std::move(*v) : Json(text);
 }
 
 }  // namespace caustic

@@ -45,6 +45,53 @@ std::string jsonTypeName(const Json& j) {
     }
 }
 
+void checkJsonDepth(const Json& j, const std::string& path, int maxDepth) {
+    struct Pending {
+        const Json* value;
+        std::string path;
+        int depth;
+    };
+    std::vector<Pending> stack;
+    // Only arrays and objects go on the stack: scalars cannot nest.
+    if (j.is_structured()) stack.push_back({&j, path, 1});
+    while (!stack.empty()) {
+        Pending p = std::move(stack.back());
+        stack.pop_back();
+        if (p.depth > maxDepth)
+            throw InputError(p.path, "nested deeper than " + std::to_string(maxDepth) +
+                                         " levels of arrays and objects");
+        if (p.value->is_object()) {
+            for (auto it = p.value->begin(); it != p.value->end(); ++it)
+                if (it.value().is_structured())
+                    stack.push_back({&it.value(), jsonPointer(p.path, it.key()), p.depth + 1});
+        } else if (p.value->is_array()) {
+            for (size_t i = 0; i < p.value->size(); ++i)
+                if ((*p.value)[i].is_structured())
+                    stack.push_back({&(*p.value)[i], jsonPointer(p.path, i), p.depth + 1});
+        }
+    }
+}
+
+std::optional<Json> tryParseJson(const std::string& text, int maxDepth) {
+    struct TooDeep {};
+    try {
+        // The callback's depth counts the arrays and objects around an event: an array or object
+        // starting at depth d is level d + 1.
+        Json doc = Json::parse(
+            text,
+            [maxDepth](int depth, Json::parse_event_t event, Json&) {
+                bool opens = event == Json::parse_event_t::object_start ||
+                             event == Json::parse_event_t::array_start;
+                if (opens && depth >= maxDepth) throw TooDeep{};
+                return true;
+            },
+            /*allow_exceptions=*/false);
+        if (!doc.is_discarded()) return doc;
+    } catch (const TooDeep&) {
+    }
+    return std::nullopt;
+}
+
 namespace {
 
 std::string joinNames(std::vector<std::string> names) {

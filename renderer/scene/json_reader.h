@@ -21,6 +21,20 @@ std::string jsonPointer(const std::string& parent, size_t index);
 /// "a number", "an array", ... for messages.
 std::string jsonTypeName(const Json& j);
 
+/// The deepest nesting of arrays and objects a scene may have (a scene needs 5:
+/// /shapes/0/vertices/0/0). The server refuses request bodies deeper than its own limit (64 levels
+/// by default) before they are parsed, so it never meets this one.
+inline constexpr int kMaxJsonDepth = 64;
+/// Throws InputError at the path of a value nested in more than `maxDepth` arrays and objects
+/// (`j` itself, when an array or object, is level 1; `path` is its own path). Walks with a stack
+/// of its own, so a document of any depth is refused before anything copies it: nlohmann::json's
+/// copy and comparison recurse once per level and overflow the call stack at about 1e5 levels.
+void checkJsonDepth(const Json& j, const std::string& path, int maxDepth = kMaxJsonDepth);
+
+/// Parses JSON text of at most `maxDepth` levels of arrays and objects; nullopt when the text is
+/// not JSON or nests deeper (found while parsing, before a deep document exists).
+std::optional<Json> tryParseJson(const std::string& text, int maxDepth = kMaxJsonDepth);
+
 /// Reads a scalar or vector value at `path`; throws InputError on a wrong type or non-finite value.
 float readNumber(const Json& j, const std::string& path);
 /// A finite number kept in double (positions, before they are made camera-relative).

@@ -2,6 +2,8 @@
 
 #include <tiny_obj_loader.h>
 
+#include <fstream>
+
 #include "core/error.h"
 
 namespace caustic {
@@ -48,17 +50,26 @@ fs::path resolveAsset(const fs::path& assetsDir, const std::string& name, const 
 
 TriangleMesh loadObj(const fs::path& file, const MeshTransform& transform,
                      const std::string& path) {
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    config.mtl_search_path = "";  // materials come from the scene, never from .mtl files
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(file.string(), config)) {
-        std::string err = reader.Error();
+    std::ifstream in(file, std::ios::binary);
+    std::string name = file.filename().string();
+    if (!in) throw InputError(path, "cannot read OBJ file " + name + ": cannot open it");
+    return parseObj(in, name, transform, path);
+}
+
+TriangleMesh parseObj(std::istream& in, const std::string& name, const MeshTransform& transform,
+                      const std::string& path) {
+    // Without a material reader tinyobjloader skips `mtllib`; its file API would open the named
+    // libraries relative to the OBJ's folder, anywhere ("../../../dev/zero"; issue 12, bug 4).
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warning, err;
+    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warning, &err, &in,
+                          /*readMatFn=*/nullptr, /*triangulate=*/true,
+                          /*default_vcols_fallback=*/false)) {
         while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
-        throw InputError(path, "cannot read OBJ file " + file.filename().string() + ": " + err);
+        throw InputError(path, "cannot read OBJ file " + name + ": " + err);
     }
-    const tinyobj::attrib_t& attrib = reader.GetAttrib();
     TriangleMesh mesh;
     size_t vertexCount = attrib.vertices.size() / 3;
     mesh.positions.reserve(vertexCount);
@@ -66,20 +77,20 @@ TriangleMesh loadObj(const fs::path& file, const MeshTransform& transform,
         Vec3 p(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
         p = transform.apply(p);
         if (!isFinite(p))
-            throw InputError(path, "vertex " + std::to_string(i + 1) + " of " +
-                                       file.filename().string() + " is not finite");
+            throw InputError(path,
+                             "vertex " + std::to_string(i + 1) + " of " + name + " is not finite");
         mesh.positions.push_back(p);
     }
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    for (const tinyobj::shape_t& shape : shapes) {
         const std::vector<tinyobj::index_t>& idx = shape.mesh.indices;
         for (size_t f = 0; f + 2 < idx.size(); f += 3) {
             glm::uvec3 t(idx[f].vertex_index, idx[f + 1].vertex_index, idx[f + 2].vertex_index);
             if (t.x >= vertexCount || t.y >= vertexCount || t.z >= vertexCount)
-                throw InputError(path, file.filename().string() + " has a face index out of range");
+                throw InputError(path, name + " has a face index out of range");
             mesh.triangles.push_back(t);
         }
     }
-    if (mesh.triangles.empty()) throw InputError(path, file.filename().string() + " has no faces");
+    if (mesh.triangles.empty()) throw InputError(path, name + " has no faces");
     return mesh;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -30,8 +31,12 @@ std::filesystem::path resolveAsset(const std::filesystem::path& assetsDir, const
                                    const std::string& path);
 
 /// Loads an OBJ file's faces (polygons are triangulated) and applies `transform`. Throws InputError
-/// at `path` for unreadable files or files without faces.
+/// at `path` for unreadable files or files without faces. Opens no other file: materials come from
+/// the scene, so `mtllib` lines are ignored (a name there could lead out of the assets folder).
 TriangleMesh loadObj(const std::filesystem::path& file, const MeshTransform& transform,
                      const std::string& path);
+/// The same from OBJ text in a stream; `name` stands for the file in messages.
+TriangleMesh parseObj(std::istream& in, const std::string& name, const MeshTransform& transform,
+                      const std::string& path);
 
 }  // namespace caustic

@@ -195,6 +195,8 @@ const Json& requireArray(JsonObject& o, const std::string& key) {
 }  // namespace
 
 std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
+    // Before anything copies a part of it (the settings; issue 12, bug 3).
+    checkJsonDepth(doc, "");
     auto scene = std::make_unique<Scene>();
     JsonObject root(doc, "");
     Frame frame;

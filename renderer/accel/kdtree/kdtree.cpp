@@ -80,7 +80,9 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
 
         // Test the leaf's primitives against the closest hit so far.
         uint32_t count = node.primCount();
-        const uint32_t* prims = count == 1 ? &node.onePrim : &primIndices_[node.primOffset];
+        // Not &primIndices_[offset]: an empty leaf's offset may be the end of the array, or the
+        // array empty when every other leaf holds one primitive, and indexing there is undefined.
+        const uint32_t* prims = count == 1 ? &node.onePrim : primIndices_.data() + node.primOffset;
         for (uint32_t i = 0; i < count; ++i) {
             if (auto h = geometry_.intersect(prims[i], wr, closest)) {
                 if constexpr (AnyHit) return true;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "accel/kdtree/clip.h"
@@ -27,7 +28,7 @@ struct Ref {
 struct Split {
     int axis = -1;
     float pos = 0.0f;
-    float cost = kInfinity;
+    double cost = std::numeric_limits<double>::infinity();
 };
 
 struct BuildNode {
@@ -43,6 +44,30 @@ Bounds3 childBox(const Bounds3& box, int axis, float pos, bool above) {
     return b;
 }
 
+// Box sizes and areas are taken in double: float coordinates of a box can lie up to 2 FLT_MAX
+// apart (a sphere of radius 3e38), and the area overflows float from 1.8e19 on.
+glm::dvec3 diagonal(const Bounds3& b) {
+    return glm::dvec3(b.hi) - glm::dvec3(b.lo);
+}
+double surfaceArea(const Bounds3& b) {
+    if (b.empty()) return 0.0;
+    glm::dvec3 d = diagonal(b);
+    return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+}
+
+// A primitive's box cut at +-FLT_MAX: the part beyond (a sphere of radius 3e38 at 3e38) has no
+// float coordinates for a ray to reach, and every box of the tree then stays finite.
+Bounds3 finiteBox(const Bounds3& b) {
+    const Vec3 m(std::numeric_limits<float>::max());
+    return Bounds3{glm::clamp(b.lo, -m, m), glm::clamp(b.hi, -m, m)};
+}
+
+// The bin of a position scaled to [0, kBins), clamped in double before the conversion to int,
+// which is undefined for NaN and out-of-range values.
+int binOf(double scaled) {
+    return scaled >= 0.0 ? int(std::min(scaled, double(kBins - 1))) : 0;
+}
+
 }  // namespace
 
 class KdTreeBuilder {
@@ -55,7 +80,7 @@ public:
         std::vector<Ref> refs(n);
         Bounds3 box;
         for (uint32_t p = 0; p < n; ++p) {
-            refs[p] = Ref{fuzzyBounds(geometry_, p), p};
+            refs[p] = Ref{finiteBox(fuzzyBounds(geometry_, p)), p};
             box.extend(refs[p].b);
         }
         tree_.bounds_ = box;
@@ -69,41 +94,43 @@ public:
 #pragma omp single nowait
         buildNode(root, std::move(refs), box, maxDepth, 0);
 
-        rootArea_ = box.surfaceArea();
+        rootArea_ = surfaceArea(box);
         flatten(root, box, 0);
     }
 
 private:
-    float cost(const Bounds3& box, int axis, float pos, size_t nBelow, size_t nAbove) const {
-        Vec3 d = box.diagonal();
+    double cost(const Bounds3& box, int axis, float pos, size_t nBelow, size_t nAbove) const {
+        glm::dvec3 d = diagonal(box);
         int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
-        float cap = d[o1] * d[o2], ring = d[o1] + d[o2];
-        float belowArea = 2.0f * (cap + (pos - box.lo[axis]) * ring);
-        float aboveArea = 2.0f * (cap + (box.hi[axis] - pos) * ring);
-        float invArea = 1.0f / box.surfaceArea();
-        float bonus = (nBelow == 0 || nAbove == 0) ? options_.emptyBonus : 0.0f;
+        double cap = d[o1] * d[o2], ring = d[o1] + d[o2];
+        double belowArea = 2.0 * (cap + (double(pos) - box.lo[axis]) * ring);
+        double aboveArea = 2.0 * (cap + (box.hi[axis] - double(pos)) * ring);
+        double invArea = 1.0 / surfaceArea(box);
+        double bonus = (nBelow == 0 || nAbove == 0) ? options_.emptyBonus : 0.0;
         return options_.traversalCost +
-               options_.intersectCost * (1.0f - bonus) *
-                   (belowArea * invArea * float(nBelow) + aboveArea * invArea * float(nAbove));
+               options_.intersectCost * (1.0 - bonus) *
+                   (belowArea * invArea * double(nBelow) + aboveArea * invArea * double(nAbove));
     }
 
     Split findBinned(const std::vector<Ref>& refs, const Bounds3& box) const {
         Split best;
         for (int axis = 0; axis < 3; ++axis) {
-            float lo = box.lo[axis], extent = box.hi[axis] - lo;
-            if (!(extent > 0.0f)) continue;
-            float scale = float(kBins) / extent;
+            double lo = box.lo[axis], extent = double(box.hi[axis]) - lo;
+            if (!(extent > 0.0)) continue;
+            double scale = kBins / extent;
             size_t starts[kBins] = {}, ends[kBins] = {};
             for (const Ref& r : refs) {
-                ++starts[std::clamp(int((r.b.lo[axis] - lo) * scale), 0, kBins - 1)];
-                ++ends[std::clamp(int((r.b.hi[axis] - lo) * scale), 0, kBins - 1)];
+                ++starts[binOf((r.b.lo[axis] - lo) * scale)];
+                ++ends[binOf((r.b.hi[axis] - lo) * scale)];
             }
             size_t nBelow = 0, nAbove = refs.size();
             for (int i = 1; i < kBins; ++i) {
                 nBelow += starts[i - 1];
                 nAbove -= ends[i - 1];
-                float pos = lo + extent * float(i) / float(kBins);
-                float c = cost(box, axis, pos, nBelow, nAbove);
+                auto pos = float(lo + extent * i / kBins);
+                // A box a few floats wide has bin edges that round onto its faces.
+                if (!(pos > box.lo[axis] && pos < box.hi[axis])) continue;
+                double c = cost(box, axis, pos, nBelow, nAbove);
                 if (c < best.cost) best = Split{axis, pos, c};
             }
         }
@@ -131,7 +158,7 @@ private:
             for (const Event& e : events) {
                 if (e.type == 1) --nAbove;
                 if (e.pos > box.lo[axis] && e.pos < box.hi[axis]) {
-                    float c = cost(box, axis, e.pos, nBelow, nAbove);
+                    double c = cost(box, axis, e.pos, nBelow, nAbove);
                     if (c < best.cost) best = Split{axis, e.pos, c};
                 }
                 if (e.type == 0) ++nBelow;
@@ -180,12 +207,12 @@ private:
     void buildNode(BuildNode& node, std::vector<Ref> refs, const Bounds3& box, int depthLeft,
                    int badRefines) {
         size_t n = refs.size();
-        if (n <= 1 || depthLeft == 0 || !(box.surfaceArea() > 0.0f)) return makeLeaf(node, refs);
+        if (n <= 1 || depthLeft == 0 || !(surfaceArea(box) > 0.0)) return makeLeaf(node, refs);
 
         // Choose the split; stop when splitting does not pay (pbrt-v3's rule, allowing a few bad
         // refinements since a worse split can enable better ones below).
         Split split = n > kExactLimit ? findBinned(refs, box) : findExact(refs, box);
-        float leafCost = options_.intersectCost * float(n);
+        double leafCost = options_.intersectCost * double(n);
         if (split.cost > leafCost) ++badRefines;
         if (split.axis < 0 || (split.cost > 4.0f * leafCost && n < 16) || badRefines == 3)
             return makeLeaf(node, refs);
@@ -221,7 +248,7 @@ private:
         stats.maxDepth = std::max(stats.maxDepth, depth);
         auto index = uint32_t(tree_.nodes_.size());
         tree_.nodes_.emplace_back();
-        float areaRatio = rootArea_ > 0.0f ? box.surfaceArea() / rootArea_ : 0.0f;
+        double areaRatio = rootArea_ > 0.0 ? surfaceArea(box) / rootArea_ : 0.0;
         if (node.axis == 3) {
             auto count = uint32_t(node.prims.size());
             CAUSTIC_CHECK_LT(count, 1u << 30);
@@ -238,7 +265,7 @@ private:
             if (count == 0) ++stats.emptyLeaves;
             stats.references += count;
             stats.sahCost +=
-                options_.intersectCost * float(count) * areaRatio / options_.traversalCost;
+                options_.intersectCost * double(count) * areaRatio / options_.traversalCost;
             return;
         }
         ++stats.interiorNodes;
@@ -258,7 +285,7 @@ private:
     KdTreeAccel& tree_;
     const Geometry& geometry_;
     KdTreeOptions options_;
-    float rootArea_ = 0.0f;
+    double rootArea_ = 0.0;
 };
 
 KdTreeAccel::KdTreeAccel(const Geometry& geometry, const KdTreeOptions& options)
