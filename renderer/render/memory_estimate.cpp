@@ -152,10 +152,13 @@ void checkMemoryEstimate(const Scene& scene, const RenderSettings& settings) {
                   storedPhotonsPerPathBound(scene, budget.maxDepth));
     throw InputError(caustics ? "/settings/caustic_photons" : "/settings/photons",
                      "the photon maps of a pass could need about " +
-                         std::to_string(mib(e.photonMaps)) +
-                         " MiB (estimated from counts, at most " + perPath +
-                         " stored photons a path), more than the " + std::to_string(mib(left)) +
-                         " MiB the memory limit leaves; lower it or raise memory_limit");
+                         std::to_string(mib(e.photonMaps)) + " MiB (estimated from counts: up to " +
+                         perPath +
+                         " photons stored a path, and one caustic photon with a specular "
+                         "material), more than the " +
+                         std::to_string(mib(left)) +
+                         " MiB the memory limit leaves; lower it, lower max_depth or raise "
+                         "memory_limit");
 }
 
 }  // namespace caustic
