@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "film/film.h"
 #include "integrators/photon.h"
 #include "lights/light.h"
 
@@ -105,8 +106,8 @@ size_t photonPeakBytes(const Scene& scene, const RenderSettings& settings, const
 }  // namespace
 
 size_t filmBytes(int width, int height) {
-    // As render/renderer.cpp's checkMemory counts it.
-    return size_t(width) * size_t(height) * (6 * sizeof(double) + sizeof(Color));
+    // As RenderSession::checkMemory counts it: the exact sums and the pass buffer.
+    return Film::bytesFor(width, height) + size_t(width) * size_t(height) * sizeof(Color);
 }
 
 // Photon tracing stores a photon at each non-specular hit, at most one per bounce: at most
