@@ -85,11 +85,12 @@ TEST_F(SettingOptions, ValuesReachTheRenderInTheOrderGiven) {
                                (dir / "x.png").string() + " --quiet --stats " +
                                (dir / "stats.json").string() + " ";
 
-    CliRun r = runCli(render + "--integrator raycast --light-sampling false --exposure -1.5 " +
-                      "--set spp=3 --spp 2");
+    // (The stats list the settings the chosen integrator reads: path reads light_sampling.)
+    CliRun r = runCli(render + "--integrator raycast --integrator path --light-sampling false " +
+                      "--exposure -1.5 --set spp=3 --spp 2");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     Json settings = readJson(dir / "stats.json")["settings"];
-    EXPECT_EQ(settings["integrator"], "raycast");
+    EXPECT_EQ(settings["integrator"], "path");
     EXPECT_EQ(settings["light_sampling"], false);
     EXPECT_EQ(settings["exposure"], -1.5);
     EXPECT_EQ(settings["spp"], 2);
