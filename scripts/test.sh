@@ -14,7 +14,7 @@ bash scripts/build.sh -DCAUSTIC_WERROR=ON
 (cd "$build" && ctest --output-on-failure --timeout 1200) || status=1
 
 # Label "sanitize": renderer_tests, server_tests and cli_tests (the CLI they run is instrumented
-# too), about 6 minutes on 2 cores after a 5-minute build. Benchmarks are not built.
+# too), about 10 minutes on 2 cores after a 6-minute build. Benchmarks are not built.
 CAUSTIC_BUILD_DIR=$build-sanitize bash scripts/build.sh -DCAUSTIC_WERROR=ON -DCAUSTIC_SANITIZE=ON \
     -DCAUSTIC_BUILD_BENCH=OFF
 (cd "$build-sanitize" && ctest --output-on-failure --timeout 1200 -L sanitize) || status=1
