@@ -15,12 +15,20 @@ bash scripts/build.sh -DCAUSTIC_WERROR=ON
 
 # Label "sanitize": renderer_tests, server_tests and cli_tests (the CLI they run is instrumented
 # too), about 10 minutes on 2 cores after a 6-minute build. Benchmarks are not built.
-CAUSTIC_BUILD_DIR=$build-sanitize bash scripts/build.sh -DCAUSTIC_WERROR=ON -DCAUSTIC_SANITIZE=ON \
-    -DCAUSTIC_BUILD_BENCH=OFF
-(cd "$build-sanitize" && ctest --output-on-failure --timeout 1200 -L sanitize) || status=1
+if CAUSTIC_BUILD_DIR=$build-sanitize bash scripts/build.sh -DCAUSTIC_WERROR=ON -DCAUSTIC_SANITIZE=ON \
+    -DCAUSTIC_BUILD_BENCH=OFF; then
+    (cd "$build-sanitize" && ctest --output-on-failure --timeout 1200 -L sanitize) || status=1
+else
+    echo "caustic: the sanitizer build failed" >&2
+    status=1
+fi
 
 # Label "fuzz": four targets of one thread each, two at a time, a minute each.
-CAUSTIC_BUILD_DIR=$build-fuzz bash scripts/build.sh -DCAUSTIC_WERROR=ON -DCMAKE_CXX_COMPILER=clang++ \
-    -DCAUSTIC_FUZZ=ON
-(cd "$build-fuzz" && ctest --output-on-failure -L fuzz -j 2) || status=1
+if CAUSTIC_BUILD_DIR=$build-fuzz bash scripts/build.sh -DCAUSTIC_WERROR=ON \
+    -DCMAKE_CXX_COMPILER=clang++ -DCAUSTIC_FUZZ=ON; then
+    (cd "$build-fuzz" && ctest --output-on-failure -L fuzz -j 2) || status=1
+else
+    echo "caustic: the fuzz build failed" >&2
+    status=1
+fi
 exit $status
