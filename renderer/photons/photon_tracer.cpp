@@ -85,7 +85,11 @@ PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
     for (uint64_t c = 0; c < chunks; ++c) {
         if (options.interrupt && options.interrupt->requested()) continue;
         uint64_t end = std::min(options.photons, (c + 1) * kChunk);
-        for (uint64_t i = c * kChunk; i < end; ++i) tracePath(scene, accel, options, i, done[c]);
+        for (uint64_t i = c * kChunk; i < end; ++i) {
+            // Per path too: an interrupted path returns, and the chunk's next one must not start.
+            if (options.interrupt && options.interrupt->requested()) break;
+            tracePath(scene, accel, options, i, done[c]);
+        }
     }
     result.interrupted = options.interrupt && options.interrupt->requested();
     size_t total = 0;
