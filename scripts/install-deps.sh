@@ -9,10 +9,10 @@ packages=(
     # Command lines (caustic, the benchmarks)
     libcli11-dev
     # Renderer
-    libglm-dev nlohmann-json3-dev libtinyobjloader-dev libopenimageio-dev openimageio-tools
-    libembree-dev
-    # Render service
-    libcpp-httplib-dev libsqlite3-dev
+    libglm-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libopenimageio-dev
+    openimageio-tools libembree-dev
+    # Render service (libssl-dev: SHA-256 asset ids; libspdlog-dev: the access log and messages)
+    libcpp-httplib-dev libsqlite3-dev libssl-dev libspdlog-dev
     # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a venv;
     # wrk and curl: bench/status_latency.sh)
     libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv wrk curl
