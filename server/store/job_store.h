@@ -33,6 +33,12 @@ struct StoredResponse {
 /// What a heartbeat learns.
 enum class LeaseStatus { Held, CancelRequested, Lost };
 
+/// A finished job that retention removes (jobs/retention.h), and which rule removes it.
+struct ExpiredJob {
+    std::string id;
+    bool tooOld = false;  ///< Finished before the cutoff; else only beyond the count kept.
+};
+
 struct JobPage {
     std::vector<Job> jobs;
     std::optional<int64_t> next;  ///< Cursor (a seq) for the next page, if there is one.
@@ -82,6 +88,11 @@ public:
     virtual std::optional<Job> cancel(const std::string& id, double now) = 0;
     /// Removes a job and its idempotency record. False for an unknown id.
     virtual bool remove(const std::string& id) = 0;
+    /// Finished jobs (succeeded, failed, cancelled; never a queued or running one) that retention
+    /// removes, oldest first, in one query: those that finished before `finishedBefore` (Unix
+    /// seconds), and those beyond the `keepNewest` most recently finished (no count limit when
+    /// negative).
+    virtual std::vector<ExpiredJob> expiredJobs(double finishedBefore, int64_t keepNewest) = 0;
 };
 
 }  // namespace caustic::server

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "store/storage_full.h"
+
 namespace caustic::server {
 namespace {
 
@@ -48,12 +50,25 @@ const char* kJobColumns =
     "lease_owner, lease_expires, stalled_leases, cancel_requested, progress, passes_done, "
     "passes_total, relative_error, eta_seconds, convergence, stats, error";
 
+// Throws the connection's last error: StorageFull for a full disk, which SQLite reports as
+// SQLITE_FULL (a write of the database or its WAL) or as an I/O error whose errno is ENOSPC
+// (growing the WAL index, for one; https://www.sqlite.org/rescode.html#full). The statement or
+// transaction that failed was rolled back, so the store stays as it was.
+[[noreturn]] void throwSqliteError(sqlite3* db, const std::string& context = {}) {
+    const std::string message = std::string("sqlite: ") + sqlite3_errmsg(db) + context;
+    const int code = sqlite3_extended_errcode(db) & 0xff;
+    if (code == SQLITE_FULL || (code == SQLITE_IOERR && isNoSpaceError(sqlite3_system_errno(db))))
+        throw StorageFull("the data folder's disk is full: the job store cannot write (" + message +
+                          ")");
+    throw std::runtime_error(message);
+}
+
 // A prepared statement, finalized on scope exit. Binds by 1-based position.
 class Statement {
 public:
     Statement(sqlite3* db, const std::string& sql) : db_(db) {
         if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK)
-            throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db) + " in " + sql);
+            throwSqliteError(db, " in " + sql);
     }
     ~Statement() { sqlite3_finalize(stmt_); }
     Statement(const Statement&) = delete;
@@ -79,7 +94,7 @@ public:
         int rc = sqlite3_step(stmt_);
         if (rc == SQLITE_ROW) return true;
         if (rc == SQLITE_DONE) return false;
-        throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db_));
+        throwSqliteError(db_);
     }
     /// Runs to completion; returns the rows changed.
     int run() {
@@ -102,20 +117,14 @@ public:
 
 private:
     void check(int rc) const {
-        if (rc != SQLITE_OK)
-            throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db_));
+        if (rc != SQLITE_OK) throwSqliteError(db_);
     }
     sqlite3* db_;
     sqlite3_stmt* stmt_ = nullptr;
 };
 
 void exec(sqlite3* db, const char* sql) {
-    char* message = nullptr;
-    if (sqlite3_exec(db, sql, nullptr, nullptr, &message) != SQLITE_OK) {
-        std::string m = message ? message : "unknown error";
-        sqlite3_free(message);
-        throw std::runtime_error("sqlite: " + m);
-    }
+    if (sqlite3_exec(db, sql, nullptr, nullptr, nullptr) != SQLITE_OK) throwSqliteError(db);
 }
 
 // BEGIN IMMEDIATE ... COMMIT, rolled back if the scope is left by an exception.
@@ -443,6 +452,20 @@ bool SqliteJobStore::remove(const std::string& id) {
     int n = Statement(db_, "DELETE FROM jobs WHERE id = ?").bind(1, id).run();
     tx.commit();
     return n == 1;
+}
+
+std::vector<ExpiredJob> SqliteJobStore::expiredJobs(double finishedBefore, int64_t keepNewest) {
+    std::lock_guard lock(mutex_);
+    // Ranks the finished jobs newest first (window functions: SQLite 3.25).
+    Statement s(db_,
+                "SELECT id, finished_at < ?1 FROM (SELECT id, seq, finished_at, ROW_NUMBER() OVER "
+                "(ORDER BY finished_at DESC, seq DESC) AS newer FROM jobs WHERE state IN "
+                "('succeeded', 'failed', 'cancelled')) WHERE finished_at < ?1 OR newer > ?2 "
+                "ORDER BY finished_at, seq");
+    s.bind(1, finishedBefore).bind(2, keepNewest < 0 ? INT64_MAX : keepNewest);
+    std::vector<ExpiredJob> expired;
+    while (s.step()) expired.push_back({s.text(0), s.integer(1) != 0});
+    return expired;
 }
 
 }  // namespace caustic::server

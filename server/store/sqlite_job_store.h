@@ -37,6 +37,7 @@ public:
                 const std::string& error, double now) override;
     std::optional<Job> cancel(const std::string& id, double now) override;
     bool remove(const std::string& id) override;
+    std::vector<ExpiredJob> expiredJobs(double finishedBefore, int64_t keepNewest) override;
 
 private:
     std::optional<Job> getLocked(const std::string& id);

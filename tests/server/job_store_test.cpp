@@ -1,10 +1,12 @@
 // The job store's lease protocol (server/store/job_store.h) on SQLite: claims in submission order,
 // writes fenced by attempt, expired leases requeued, jobs that stall too often failed, cancellation
-// of queued and running jobs, idempotency records, paging.
+// of queued and running jobs, idempotency records, paging, the jobs retention removes.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "store/sqlite_job_store.h"
 
@@ -238,6 +240,37 @@ TEST_F(JobStoreTest, SurvivesReopening) {
     EXPECT_EQ(back.passesDone, 1);
     EXPECT_DOUBLE_EQ(back.relativeError, 0.3);
     EXPECT_EQ(back.convergence, (Json::array({Json{{"pass", 1}}})));
+}
+
+TEST_F(JobStoreTest, RetentionSelectsFinishedJobsPastTheirAgeOrBeyondTheCount) {
+    // Finished at 1000 + i: "s0" first, "c3" last; one queued and one running (for ever, both).
+    const std::string ids[] = {"s0", "f1", "s2", "c3"};
+    for (const std::string& id : ids) submit(id);
+    for (int i = 0; i < 4; ++i) {
+        Job j = *store_->claim("w", 900, 1e9, 3, 100);
+        JobState end = ids[i][0] == 's'   ? JobState::Succeeded
+                       : ids[i][0] == 'f' ? JobState::Failed
+                                          : JobState::Cancelled;
+        ASSERT_TRUE(store_->finish(j.id, j.attempt, end, Json::object(), "", 1000 + i));
+    }
+    submit("running");
+    ASSERT_EQ(store_->claim("w", 0, 1e9, 3, 100)->id, "running");
+    submit("queued");
+    auto named = [](const std::vector<ExpiredJob>& jobs) {
+        std::vector<std::string> out;
+        for (const ExpiredJob& j : jobs) out.push_back(j.id + (j.tooOld ? ":old" : ":count"));
+        return out;
+    };
+    using Ids = std::vector<std::string>;
+    // By age alone: finished before 1002, oldest first.
+    EXPECT_EQ(named(store_->expiredJobs(1002, -1)), (Ids{"s0:old", "f1:old"}));
+    // By count alone: the two most recently finished stay.
+    EXPECT_EQ(named(store_->expiredJobs(0, 2)), (Ids{"s0:count", "f1:count"}));
+    // Both: a job past its age is reported so even when the count would remove it too.
+    EXPECT_EQ(named(store_->expiredJobs(1001, 1)), (Ids{"s0:old", "f1:count", "s2:count"}));
+    // Never a queued or running job, however old or many.
+    EXPECT_EQ(named(store_->expiredJobs(1e12, 0)), (Ids{"s0:old", "f1:old", "s2:old", "c3:old"}));
+    EXPECT_TRUE(store_->expiredJobs(0, -1).empty());
 }
 
 }  // namespace
