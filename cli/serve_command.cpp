@@ -60,6 +60,18 @@ void addWorkOptions(CLI::App& serve, ServerConfig& c) {
                    "out-of-memory kills)");
 }
 
+void addStorageOptions(CLI::App& serve, server::StoragePolicy& s) {
+    cli::addNumber(serve, "--keep-days", s.keepDays, 0, 1e5,
+                   "Finished jobs and their files are removed this many days after they finished "
+                   "(fractions allowed); 0 keeps them");
+    cli::addNumber(serve, "--max-stored-jobs", s.maxStoredJobs, 0, 1e9,
+                   "Finished jobs kept at most, the most recently finished; 0 for no limit");
+    cli::addNumber(serve, "--sweep-seconds", s.sweepSeconds, 0.05, 86400,
+                   "How often retention runs and the data folder's disk use is measured");
+    cli::addNumber(serve, "--min-free-mib", s.minFreeMiB, 0, 1e9,
+                   "Free space the data folder's disk must have for a new job (507 under it)");
+}
+
 }  // namespace
 
 CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
@@ -81,6 +93,7 @@ CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
     addFolder(*serve, "--scenes", c.scenesDir, "Example scenes, submittable by name");
     addFolder(*serve, "--web", c.webDir, "Static files of the web page");
     addWorkOptions(*serve, c);
+    addStorageOptions(*serve, c.storage);
     addLimits(*serve->add_option_group("Limits (a job over one gets 422 naming the field)"),
               c.limits);
     serve->callback([&c] {

@@ -24,6 +24,15 @@ struct ServiceLimits {
     int maxEventStreams = 64;       ///< Concurrent Server-Sent Events connections.
 };
 
+/// What the service keeps and for how long (jobs/retention.h), and the free space it needs on the
+/// data folder's disk.
+struct StoragePolicy {
+    double keepDays = 7;       ///< Finished jobs go this long after finishing; 0 keeps them.
+    int maxStoredJobs = 1000;  ///< Finished jobs kept at most, the newest; 0 for no limit.
+    double sweepSeconds = 60;  ///< How often retention runs and the folder's use is measured.
+    double minFreeMiB = 64;    ///< POST /api/jobs answers 507 with less free space than this.
+};
+
 struct ServerConfig {
     std::string host = "127.0.0.1";
     int port = 8080;
@@ -38,6 +47,7 @@ struct ServerConfig {
     int maxStalledLeases = 3;
     int maxAttempts = 100;  ///< Starts of one job, whatever stopped them.
     ServiceLimits limits;
+    StoragePolicy storage;
 };
 
 }  // namespace caustic::server

@@ -98,6 +98,7 @@ RenderService::RenderService(ServerConfig config)
         }
     }
     workers_ = std::make_unique<WorkerPool>(config_, *store_, files_, events_, counters_, owner_);
+    retention_ = std::make_unique<RetentionSweeper>(config_, *store_, files_, events_, storage_);
     jobs_ = std::make_unique<JobService>(config_, *store_, files_, events_,
                                          [this] { workers_->wake(); });
     http_ = std::make_unique<httplib::Server>();
@@ -135,10 +136,12 @@ void RenderService::serve() {
     http_->set_keep_alive_timeout(5);
     http_->set_read_timeout(10);
     http_->set_write_timeout(10);
-    ApiContext api{config_, *jobs_, counters_, eventStreams_, stopping_};
+    ApiContext api{config_, *jobs_, counters_, eventStreams_, stopping_, storage_};
     registerRoutes(*http_, api);
     workers_->start();
+    retention_->start();
     http_->listen_after_bind();
+    retention_->stop();
     workers_->stop();
 }
 

@@ -8,6 +8,7 @@
 
 #include "jobs/job_events.h"
 #include "jobs/job_service.h"
+#include "jobs/retention.h"
 #include "jobs/worker_pool.h"
 #include "server_config.h"
 #include "store/job_files.h"
@@ -43,6 +44,8 @@ private:
     RenderCounters counters_;
     std::string owner_;
     std::unique_ptr<WorkerPool> workers_;
+    StorageCounters storage_;
+    std::unique_ptr<RetentionSweeper> retention_;
     std::unique_ptr<JobService> jobs_;
     std::unique_ptr<httplib::Server> http_;
     std::atomic<int> eventStreams_{0};

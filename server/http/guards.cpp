@@ -5,6 +5,7 @@
 #include <string>
 
 #include "http/problem.h"
+#include "store/storage_full.h"
 
 namespace caustic::server {
 namespace {
@@ -81,6 +82,8 @@ void installGuards(httplib::Server& http, const ServerConfig& config) {
             std::string what = "internal error";
             try {
                 std::rethrow_exception(ep);
+            } catch (const StorageFull& e) {
+                return sendProblem(res, 507, e.what());  // RFC 4918, section 11.5
             } catch (const std::exception& e) {
                 what = std::string("internal error: ") + e.what();
             } catch (...) {

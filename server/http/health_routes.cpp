@@ -2,9 +2,37 @@
 #include <sstream>
 
 #include "http/routes.h"
+#include "store/disk_space.h"
 
 namespace caustic::server {
 namespace {
+
+// The data folder: its use (measured by the retention sweep, a walk of the folder), the free space
+// and size of its file system (statvfs, now), and what retention removed.
+void storageMetrics(ApiContext& api, std::ostream& out) {
+    const DiskSpace space = diskSpace(api.config.dataDir).value_or(DiskSpace{});
+    out << "# HELP caustic_data_bytes Disk space the data folder takes (job store, job files), "
+           "measured at the last retention sweep.\n"
+           "# TYPE caustic_data_bytes gauge\n"
+        << "caustic_data_bytes " << api.storage.dataBytes.load() << "\n"
+        << "# HELP caustic_data_filesystem_avail_bytes Free space on the data folder's file "
+           "system (POST /api/jobs answers 507 under --min-free-mib).\n"
+           "# TYPE caustic_data_filesystem_avail_bytes gauge\n"
+        << "caustic_data_filesystem_avail_bytes " << space.freeBytes << "\n"
+        << "# HELP caustic_data_filesystem_size_bytes Size of the data folder's file system.\n"
+           "# TYPE caustic_data_filesystem_size_bytes gauge\n"
+        << "caustic_data_filesystem_size_bytes " << space.totalBytes << "\n"
+        << "# HELP caustic_retention_sweeps_total Retention sweeps run (--sweep-seconds).\n"
+           "# TYPE caustic_retention_sweeps_total counter\n"
+        << "caustic_retention_sweeps_total " << api.storage.sweeps.load() << "\n"
+        << "# HELP caustic_retention_jobs_removed_total Finished jobs removed with their files, by "
+           "the rule that removed them.\n"
+           "# TYPE caustic_retention_jobs_removed_total counter\n"
+        << "caustic_retention_jobs_removed_total{reason=\"keep_days\"} "
+        << api.storage.jobsRemovedTooOld.load() << "\n"
+        << "caustic_retention_jobs_removed_total{reason=\"max_stored_jobs\"} "
+        << api.storage.jobsRemovedOverCount.load() << "\n";
+}
 
 std::string metricsText(ApiContext& api) {
     std::map<JobState, int64_t> counts = api.jobs.countByState();
@@ -33,6 +61,7 @@ std::string metricsText(ApiContext& api) {
            "new or changed file each).\n"
            "# TYPE caustic_mesh_scans_total counter\n"
         << "caustic_mesh_scans_total " << api.jobs.meshScans() << "\n";
+    storageMetrics(api, out);
     return out.str();
 }
 

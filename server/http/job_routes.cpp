@@ -53,6 +53,8 @@ void sendSubmission(httplib::Response& res, const Submission& s) {
             return sendProblem(res, 429, s.detail);
         case Outcome::Invalid:
             return sendProblem(res, 422, s.detail, s.pointer);
+        case Outcome::DiskFull:
+            return sendProblem(res, 507, s.detail);
     }
 }
 

@@ -8,6 +8,7 @@
 #include <httplib.h>
 
 #include "jobs/job_service.h"
+#include "jobs/retention.h"
 #include "jobs/worker_pool.h"
 #include "server_config.h"
 
@@ -19,6 +20,7 @@ struct ApiContext {
     RenderCounters& counters;
     std::atomic<int>& eventStreams;
     const std::atomic<bool>& stopping;
+    const StorageCounters& storage;
 };
 
 /// Registers every route, the guards (http/guards.h), the error bodies and the static files.

@@ -28,6 +28,7 @@ struct Submission {
         KeyReused,  ///< The Idempotency-Key came with another body before.
         BadKey,     ///< The Idempotency-Key is too long.
         QueueFull,  ///< Too many jobs wait already.
+        DiskFull,   ///< The data folder's disk has less free space than --min-free-mib.
         Invalid,    ///< The body, scene or settings are wrong or over a limit: `pointer`, `detail`.
     };
     Outcome outcome = Outcome::Invalid;

@@ -8,6 +8,7 @@
 #include "jobs/pass_recorder.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "store/storage_full.h"
 
 namespace caustic::server {
 
@@ -145,6 +146,13 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
         }
     } catch (const InputError& e) {
         outcome.error = e.what();
+    } catch (const StorageFull& e) {
+        // A full disk fails the job rather than holding a worker for as long as it stays full
+        // (README, "A full disk"). The write that failed left nothing behind (a temporary file
+        // and a rename; a rolled-back transaction); the job's other files go too, which frees
+        // their space for the store to record the failure.
+        files_.remove(job.id);
+        outcome.error = std::string(e.what()) + "; free space and submit the job again";
     } catch (const std::exception& e) {
         outcome.error = std::string("render failed: ") + e.what();
     }

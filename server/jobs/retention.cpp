@@ -1,0 +1,86 @@
+#include "jobs/retention.h"
+
+#include <chrono>
+#include <iostream>
+#include <string>
+
+#include "jobs/clock.h"
+#include "store/disk_space.h"
+
+namespace caustic::server {
+
+RetentionSweeper::RetentionSweeper(const ServerConfig& config, JobStore& store,
+                                   const JobFiles& files, JobEvents& events,
+                                   StorageCounters& counters)
+    : config_(config), store_(store), files_(files), events_(events), counters_(counters) {}
+
+RetentionSweeper::~RetentionSweeper() {
+    stop();
+}
+
+void RetentionSweeper::start() {
+    stopping_ = false;
+    thread_ = std::thread([this] { run(); });
+}
+
+void RetentionSweeper::stop() {
+    {
+        std::lock_guard lock(mutex_);
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    if (thread_.joinable()) thread_.join();
+}
+
+void RetentionSweeper::run() {
+    const auto period = std::chrono::duration<double>(config_.storage.sweepSeconds);
+    std::unique_lock lock(mutex_);
+    while (!stopping_) {
+        lock.unlock();
+        sweep(unixNow());
+        lock.lock();
+        wake_.wait_for(lock, period, [this] { return stopping_; });
+    }
+}
+
+int RetentionSweeper::sweep(double now) {
+    int removed = 0;
+    try {
+        removed = removeExpiredJobs(now);
+    } catch (const std::exception& e) {
+        std::cerr << "caustic serve: retention: " << e.what() << "\n";
+    }
+    // Unused assets go here too once uploads land: JobStore::removeUnusedAssets(now - keepDays *
+    // 86400) removes the assets no job has used since then and returns their ids, to be logged
+    // and counted as the jobs are.
+    counters_.dataBytes = diskUsage(config_.dataDir);
+    ++counters_.sweeps;
+    return removed;
+}
+
+int RetentionSweeper::removeExpiredJobs(double now) {
+    const StoragePolicy& policy = config_.storage;
+    // --keep-days 0 keeps jobs whatever their age; --max-stored-jobs 0 whatever their number.
+    const double cutoff = policy.keepDays > 0 ? now - policy.keepDays * 86400 : -1;
+    const int64_t keep = policy.maxStoredJobs > 0 ? policy.maxStoredJobs : -1;
+    int tooOld = 0, overCount = 0;
+    std::string ids;
+    for (const ExpiredJob& job : store_.expiredJobs(cutoff, keep)) {
+        // The record first: a job the API lists always has its files.
+        if (!store_.remove(job.id)) continue;  // deleted by a client meanwhile
+        files_.remove(job.id);
+        ids += (ids.empty() ? "" : " ") + job.id;
+        ++(job.tooOld ? tooOld : overCount);
+        ++(job.tooOld ? counters_.jobsRemovedTooOld : counters_.jobsRemovedOverCount);
+    }
+    if (tooOld + overCount == 0) return 0;
+    events_.notify();
+    std::cerr << "caustic serve: retention removed " << tooOld + overCount
+              << " finished job(s) and their files: " << tooOld << " finished more than "
+              << policy.keepDays << " day(s) ago (--keep-days), " << overCount
+              << " beyond the newest " << policy.maxStoredJobs << " (--max-stored-jobs): " << ids
+              << "\n";
+    return tooOld + overCount;
+}
+
+}  // namespace caustic::server
