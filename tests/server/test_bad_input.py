@@ -219,7 +219,8 @@ def test_post_without_a_body_needs_no_content_length(servers):
     server = servers("main")
     with socket.create_connection(("127.0.0.1", server.port), timeout=30) as sock:
         sock.settimeout(5)  # it was read until the connection closed, then 400 after 10 s
-        sock.sendall(f"POST /api/jobs/{UNKNOWN_ID}/cancel HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+        sock.sendall(f"POST /api/jobs/{UNKNOWN_ID}/cancel HTTP/1.1\r\n"
+                     "Host: 127.0.0.1\r\n\r\n".encode())
         response = http.client.HTTPResponse(sock)
         response.begin()
         r = RawResponse(response.status, response.headers, response.read())
