@@ -65,10 +65,12 @@ httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
             return refuse(r->status, r->detail);
         return httplib::Server::HandlerResponse::Handled;
     }
+    // The media type first: a cross-site form or text/plain body is 415 whatever its Origin
+    // says (older browsers sent none with a form).
+    if (std::optional<Refusal> r = checkMediaType(req)) return refuse(r->status, r->detail);
     if (mutating(req.method))
         if (std::optional<Refusal> r = checkOrigin(config, req))
             return refuse(r->status, r->detail);
-    if (std::optional<Refusal> r = checkMediaType(req)) return refuse(r->status, r->detail);
 
     if (config.token.empty() || !mutating(req.method) ||
         authorized(req.get_header_value("Authorization"), config.token))

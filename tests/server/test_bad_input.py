@@ -201,14 +201,15 @@ def test_refused_body_does_not_spoil_the_connection(servers):
     # the body left unread is not taken for the next request (a keep-alive client retries fine).
     server = servers("token")
     body = json.dumps({"scene": TINY_SCENE, "settings": {"spp": 1}})
+    json_type = {"Content-Type": "application/json"}  # a body without one is 415
     with requests.Session() as session:
         for _ in range(3):
             r = session.post(server.url("/api/jobs"), data=body, timeout=30,
-                             headers={"Authorization": "Bearer wrong"})
+                             headers={"Authorization": "Bearer wrong", **json_type})
             assert_problem(r, 401)
             assert r.headers["Connection"] == "close"
         r = session.post(server.url("/api/jobs"), data=body, timeout=30,
-                         headers={"Authorization": "Bearer " + TOKEN})
+                         headers={"Authorization": "Bearer " + TOKEN, **json_type})
         assert r.status_code == 202, r.text
     server.healthy()
     server.wait(r.json()["id"], {"succeeded"})
