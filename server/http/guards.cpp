@@ -45,7 +45,8 @@ httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
     };
     // A decoded %00 would cut a static file's name short ("/index.html%00.png").
     if (req.path.find('\0') != std::string::npos) return refuse(400, "the path has a NUL byte");
-    // Another site's page (http/same_origin.h): a foreign Host first, as it may read answers.
+    // Another site's page (http/same_origin.h). A foreign Host first: after DNS rebinding the
+    // page reads the answers, so reads are refused too.
     if (std::optional<Refusal> r = checkHost(config, req)) return refuse(r->status, r->detail);
     allowListedOrigin(config, req, res);
     // Only a Content-Length holds a body to --max-request-bytes: cpp-httplib reads chunked and
@@ -65,8 +66,8 @@ httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
             return refuse(r->status, r->detail);
         return httplib::Server::HandlerResponse::Handled;
     }
-    // The media type first: a cross-site form or text/plain body is 415 whatever its Origin
-    // says (older browsers sent none with a form).
+    // The media type before the Origin: a form or a text/plain body is 415 whatever its Origin
+    // (Firefox before version 70 sent none with a form).
     if (std::optional<Refusal> r = checkMediaType(req)) return refuse(r->status, r->detail);
     if (mutating(req.method))
         if (std::optional<Refusal> r = checkOrigin(config, req))

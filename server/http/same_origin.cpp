@@ -63,11 +63,11 @@ bool isLoopbackHost(std::string_view host) {
 }
 
 std::optional<Refusal> checkHost(const ServerConfig& config, const httplib::Request& req) {
-    // HTTP/1.0 has no Host; no browser sends such a request, so it cannot be a rebinding attack.
-    if (!req.has_header("Host"))
-        return req.version == "HTTP/1.0"
-                   ? std::nullopt
-                   : std::optional<Refusal>({400, "an HTTP/1.1 request needs a Host header"});
+    if (!req.has_header("Host")) {
+        // HTTP/1.0 has no Host; no browser sends such a request, so it is no rebinding attack.
+        if (req.version == "HTTP/1.0") return std::nullopt;
+        return Refusal{400, "an HTTP/1.1 request needs a Host header"};
+    }
     const std::string host = req.get_header_value("Host");
     if (!isLoopbackHost(config.host) || isLoopbackHostHeader(host)) return std::nullopt;
     return Refusal{403, "the Host \"" + host +
