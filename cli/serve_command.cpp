@@ -3,19 +3,20 @@
 #include <signal.h>
 
 #include <iostream>
+#include <regex>
 #include <thread>
 
+#include <spdlog/spdlog.h>
+
 #include "command_line.h"
+#include "http/same_origin.h"
+#include "logging.h"
 #include "service.h"
 
 namespace caustic {
 namespace {
 
 using server::ServerConfig;
-
-bool isLoopback(const std::string& host) {
-    return host == "127.0.0.1" || host == "localhost" || host == "::1";
-}
 
 // A folder option whose --help shows its default (a std::filesystem::path would show it quoted).
 CLI::Option* addFolder(CLI::App& serve, const std::string& name, std::filesystem::path& folder,
@@ -72,6 +73,37 @@ void addStorageOptions(CLI::App& serve, server::StoragePolicy& s) {
                    "Free space the data folder's disk must have for a new job (507 under it)");
 }
 
+// Who may use the API from a web page, and what the service logs (README, "Security" and
+// "Operations").
+void addBrowserAndLogOptions(CLI::App& serve, ServerConfig& c) {
+    // An origin is a scheme, a host and a port, without a path (RFC 6454, section 4): what a
+    // browser sends in Origin; "null" and "*" are no origin.
+    static const std::regex origin(R"(https?://[^/?#@\s]+)", std::regex::icase);
+    serve
+        .add_option("--allow-origin", c.allowedOrigins,
+                    "An origin (scheme://host[:port]) whose pages may change jobs and read "
+                    "answers (CORS); repeatable. Other origins' POST and DELETE get 403")
+        ->type_name("ORIGIN")
+        ->check(CLI::Validator(
+            [](const std::string& value) {
+                return std::regex_match(value, origin)
+                           ? std::string()
+                           : "must be scheme://host[:port] with no path, as a browser sends it "
+                             "in Origin (http://localhost:5173), got \"" +
+                                 value + "\"";
+            },
+            "ORIGIN"));
+    serve.add_option("--log-level", c.logLevel, "Messages and access log at this level and above")
+        ->check(CLI::IsMember(
+            std::vector<std::string>(std::begin(server::kLogLevels), std::end(server::kLogLevels))))
+        ->capture_default_str();
+    serve
+        .add_option("--access-log", c.accessLog,
+                    "File for the access log, one line per request, \"-\" for stdout "
+                    "(default: stderr, with the messages)")
+        ->type_name("FILE|-");
+}
+
 }  // namespace
 
 CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
@@ -94,10 +126,11 @@ CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
     addFolder(*serve, "--web", c.webDir, "Static files of the web page");
     addWorkOptions(*serve, c);
     addStorageOptions(*serve, c.storage);
+    addBrowserAndLogOptions(*serve, c);
     addLimits(*serve->add_option_group("Limits (a job over one gets 422 naming the field)"),
               c.limits);
     serve->callback([&c] {
-        if (!isLoopback(c.host) && c.token.empty())
+        if (!server::isLoopbackHost(c.host) && c.token.empty())
             throw CLI::ValidationError(
                 "--host", "listening on " + c.host +
                               " exposes the service beyond this machine: give --token (or "
@@ -116,16 +149,23 @@ int runServe(const ServerConfig& config) {
     pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
     signal(SIGPIPE, SIG_IGN);
     try {
+        server::setUpLogging(config.logLevel, config.accessLog);
+    } catch (const std::exception& e) {
+        std::cerr << "caustic serve: --access-log: " << e.what() << "\n";
+        return 1;
+    }
+    try {
         server::RenderService service(config);
         int port = service.bind();
         std::string host =
             config.host.find(':') != std::string::npos ? "[" + config.host + "]" : config.host;
+        // Printed on stdout, not logged: scripts and tests read the address from this line.
         std::cout << "caustic: serving on http://" << host << ":" << port << "/ (data "
                   << config.dataDir.string() << "; Ctrl-C stops)" << std::endl;
         std::thread watcher([&] {
             int sig = 0;
             sigwait(&stopSignals, &sig);
-            std::cerr << "caustic serve: stopping\n";
+            spdlog::info("stopping (signal {})", sig);
             service.stop();
         });
         service.serve();
@@ -133,7 +173,7 @@ int runServe(const ServerConfig& config) {
         pthread_kill(watcher.native_handle(), SIGTERM);
         watcher.join();
     } catch (const std::exception& e) {
-        std::cerr << "caustic serve: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 1;
     }
     return 0;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace caustic::server {
 
@@ -40,9 +41,13 @@ struct ServerConfig {
     std::filesystem::path assetsDir;  ///< Mesh files resolve inside it only.
     std::filesystem::path scenesDir;  ///< Example scenes, submitted by name.
     std::filesystem::path webDir;     ///< Static files of the web page.
-    std::string token;      ///< Bearer token for mutating requests; required off loopback.
-    int workers = 1;        ///< Jobs rendered at once.
-    int renderThreads = 0;  ///< Threads per render; 0 for every core.
+    std::string token;  ///< Bearer token for mutating requests; required off loopback.
+    /// Origins ("http://host:port") whose pages may change jobs and read answers (CORS).
+    std::vector<std::string> allowedOrigins;
+    std::string logLevel = "info";  ///< Of the messages and the access log (server/logging.h).
+    std::string accessLog;          ///< A file; "-" for stdout; empty for stderr.
+    int workers = 1;                ///< Jobs rendered at once.
+    int renderThreads = 0;          ///< Threads per render; 0 for every core.
     double leaseSeconds = 10;
     int maxStalledLeases = 3;
     int maxAttempts = 100;  ///< Starts of one job, whatever stopped them.

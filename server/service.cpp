@@ -6,11 +6,11 @@
 #include <unistd.h>
 
 #include <httplib.h>
+#include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <iostream>
 #include <random>
 #include <stdexcept>
 
@@ -69,13 +69,13 @@ RenderService::RenderService(ServerConfig config)
     }
     int orphaned = store_->expireLeasesNotOwnedBy(owner_, !fault.empty());
     if (!fault.empty())
-        std::cerr << "caustic serve: the last server " << fault
-                  << (orphaned > 0 ? "; the jobs it was rendering count it as a stalled lease" : "")
-                  << "\n";
+        spdlog::warn("the last server {}{}", fault,
+                     orphaned > 0 ? "; the jobs it was rendering count it as a stalled lease" : "");
     if (orphaned > 0)
-        std::cerr << "caustic serve: " << orphaned
-                  << " job(s) were running when the last server stopped; they resume from their "
-                     "last finished pass\n";
+        spdlog::warn(
+            "{} job(s) were running when the last server stopped; they resume from their last "
+            "finished pass",
+            orphaned);
     files_.removeTemporaryFiles();
     // This process's fault record, empty unless it dies of a fault. Handlers are installed only
     // over the default action (a sanitizer's or debugger's stay).

@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <optional>
 #include <string>
 
+#include "http/access_log.h"
+#include "http/media_types.h"
 #include "http/problem.h"
+#include "http/same_origin.h"
 #include "store/storage_full.h"
 
 namespace caustic::server {
@@ -42,6 +46,10 @@ httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
     };
     // A decoded %00 would cut a static file's name short ("/index.html%00.png").
     if (req.path.find('\0') != std::string::npos) return refuse(400, "the path has a NUL byte");
+    // Another site's page (http/same_origin.h). A foreign Host first: after DNS rebinding the
+    // page reads the answers, so reads are refused too.
+    if (std::optional<Refusal> r = checkHost(config, req)) return refuse(r->status, r->detail);
+    allowListedOrigin(config, req, res);
     // Only a Content-Length holds a body to --max-request-bytes: cpp-httplib reads chunked and
     // compressed bodies whole, whatever their size, and a POST with neither header until the
     // connection closes.
@@ -54,6 +62,17 @@ httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
     // `curl -X POST .../cancel`. `req` is the server's own, not a const object.
     if (!req.has_header("Content-Length"))
         const_cast<httplib::Request&>(req).set_header("Content-Length", "0");
+    if (isPreflight(req)) {
+        if (std::optional<Refusal> r = answerPreflight(config, req, res))
+            return refuse(r->status, r->detail);
+        return httplib::Server::HandlerResponse::Handled;
+    }
+    // The media type before the Origin: a form or a text/plain body is 415 whatever its Origin
+    // (Firefox before version 70 sent none with a form).
+    if (std::optional<Refusal> r = checkMediaType(req)) return refuse(r->status, r->detail);
+    if (mutating(req.method))
+        if (std::optional<Refusal> r = checkOrigin(config, req))
+            return refuse(r->status, r->detail);
 
     if (config.token.empty() || !mutating(req.method) ||
         authorized(req.get_header_value("Authorization"), config.token))
@@ -66,6 +85,7 @@ httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
 
 void installGuards(httplib::Server& http, const ServerConfig& config) {
     http.set_pre_routing_handler([&config](const httplib::Request& req, httplib::Response& res) {
+        markRequestStart(req);
         return checkRequest(config, req, res);
     });
     // Every error without a body of its own (unknown routes, a body over the limit) gets one.

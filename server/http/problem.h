@@ -14,4 +14,10 @@ const char* statusTitle(int status);
 void sendProblem(httplib::Response& res, int status, const std::string& detail,
                  const std::string& pointer = {});
 
+/// A request refused before it is routed (http/guards.h): the status and the problem's detail.
+struct Refusal {
+    int status;
+    std::string detail;
+};
+
 }  // namespace caustic::server

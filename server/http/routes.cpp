@@ -1,5 +1,6 @@
 #include "http/routes.h"
 
+#include "http/access_log.h"
 #include "http/guards.h"
 
 namespace caustic::server {
@@ -7,6 +8,7 @@ namespace caustic::server {
 void registerRoutes(httplib::Server& http, ApiContext& api) {
     http.set_payload_max_length(api.config.limits.maxRequestBytes);
     installGuards(http, api.config);
+    installAccessLog(http);
     registerHealthRoutes(http, api);
     registerSceneRoutes(http, api);
     registerJobRoutes(http, api);

@@ -1,8 +1,9 @@
 #include "jobs/retention.h"
 
 #include <chrono>
-#include <iostream>
 #include <string>
+
+#include <spdlog/spdlog.h>
 
 #include "jobs/clock.h"
 #include "store/disk_space.h"
@@ -48,7 +49,7 @@ int RetentionSweeper::sweep(double now) {
     try {
         removed = removeExpiredJobs(now);
     } catch (const std::exception& e) {
-        std::cerr << "caustic serve: retention: " << e.what() << "\n";
+        spdlog::error("retention: {}", e.what());
     }
     // Unused assets go here too once uploads land: JobStore::removeUnusedAssets(now - keepDays *
     // 86400) removes the assets no job has used since then and returns their ids, to be logged
@@ -75,11 +76,10 @@ int RetentionSweeper::removeExpiredJobs(double now) {
     }
     if (tooOld + overCount == 0) return 0;
     events_.notify();
-    std::cerr << "caustic serve: retention removed " << tooOld + overCount
-              << " finished job(s) and their files: " << tooOld << " finished more than "
-              << policy.keepDays << " day(s) ago (--keep-days), " << overCount
-              << " beyond the newest " << policy.maxStoredJobs << " (--max-stored-jobs): " << ids
-              << "\n";
+    spdlog::info(
+        "retention removed {} finished job(s) and their files: {} finished more than {} day(s) "
+        "ago (--keep-days), {} beyond the newest {} (--max-stored-jobs): {}",
+        tooOld + overCount, tooOld, policy.keepDays, overCount, policy.maxStoredJobs, ids);
     return tooOld + overCount;
 }
 

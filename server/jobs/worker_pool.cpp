@@ -2,7 +2,8 @@
 
 #include <chrono>
 #include <cmath>
-#include <iostream>
+
+#include <spdlog/spdlog.h>
 
 #include "core/error.h"
 #include "jobs/pass_recorder.h"
@@ -58,7 +59,7 @@ void WorkerPool::run() {
             job = store_.claim(owner_, unixNow(), config_.leaseSeconds, config_.maxStalledLeases,
                                config_.maxAttempts);
         } catch (const std::exception& e) {
-            std::cerr << "caustic serve: claiming a job: " << e.what() << "\n";
+            spdlog::error("claiming a job: {}", e.what());
         }
         if (!job) {
             // Poll now and then as well: leases of other owners expire without a wake-up.
@@ -94,8 +95,10 @@ void WorkerPool::renderJob(const Job& job) {
                           unixNow()) &&
             outcome.state == JobState::Succeeded)
             files_.removeCheckpoint(job.id);
+        spdlog::info("job {} {}{}{}", job.id, toString(outcome.state),
+                     outcome.error.empty() ? "" : ": ", outcome.error);
     } catch (const std::exception& e) {
-        std::cerr << "caustic serve: finishing job " << job.id << ": " << e.what() << "\n";
+        spdlog::error("finishing job {}: {}", job.id, e.what());
     }
 }
 

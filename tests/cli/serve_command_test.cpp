@@ -39,13 +39,31 @@ TEST(ServeCommand, OtherUsageErrors) {
         << r.output;
 }
 
+TEST(ServeCommand, AllowOriginTakesOnlyOriginsAndLogLevelOnlyLevels) {
+    // "*" and "null" are no origin; a path or a trailing slash never matches a browser's Origin.
+    for (const char* origin : {"'*'", "null", "http://localhost:5173/", "http://localhost:5173/app",
+                               "localhost:5173", "ftp://localhost"}) {
+        CliRun r =
+            runCli(std::string("serve --data /nonexistent/caustic --allow-origin ") + origin);
+        EXPECT_EQ(r.exitCode, 2) << origin << ": " << r.output;
+        EXPECT_EQ(r.output.rfind("caustic serve: --allow-origin: must be scheme://host[:port]", 0),
+                  0)
+            << r.output;
+    }
+    CliRun r = runCli("serve --data /nonexistent/caustic --log-level loud");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("caustic serve: --log-level: loud not in", 0), 0) << r.output;
+}
+
 TEST(ServeCommand, HelpStatesDefaultsAndRanges) {
     CliRun r = runCli("serve --help");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     for (const char* line :
          {"--port INT in [0, 65535]=8080", "--workers INT in [1, 64]=1",
           "--lease-seconds NUMBER in [0.5, 3600]=10", "--max-spp INT in [1, 1000000]=65536",
-          "--data DIR=data", "(Env:CAUSTIC_DATA)", "(Env:CAUSTIC_TOKEN)"})
+          "--data DIR=data", "(Env:CAUSTIC_DATA)", "(Env:CAUSTIC_TOKEN)", "--allow-origin ORIGIN",
+          "--log-level TEXT:{trace,debug,info,warning,error,critical,off}=info",
+          "--access-log FILE|-"})
         EXPECT_NE(r.output.find(line), std::string::npos) << line << " not in:\n" << r.output;
 }
 

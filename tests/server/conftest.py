@@ -52,6 +52,7 @@ TINY_SCENE = {
 TITLES = {
     400: "Bad Request",
     401: "Unauthorized",
+    403: "Forbidden",
     404: "Not Found",
     409: "Conflict",
     411: "Length Required",

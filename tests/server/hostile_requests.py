@@ -233,11 +233,11 @@ CASES = [
                                               + b'"}'), headers={"Content-Encoding": "gzip"}),
     Case("deflate_body", 415, body=zlib.compress(b'{"scene":"cornell-box"}'),
          headers={"Content-Encoding": "deflate"}),
-    Case("post_without_content_length", 400, raw=b"POST /api/jobs HTTP/1.1\r\nHost: x\r\n"
+    Case("post_without_content_length", 400, raw=b"POST /api/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\n"
          b"Connection: close\r\n\r\n{\"scene\":\"cornell-box\"}", detail="malformed JSON"),
     Case("garbage_request_line", 400, raw=b"\x16\x03\x01\x02\x00\x01\x00\x01\xfc\x03\x03\r\n\r\n"),
-    Case("bad_chunk_size", 411, raw=b"POST /api/jobs HTTP/1.1\r\nHost: x\r\nConnection: close\r\n"
-         b"Transfer-Encoding: chunked\r\n\r\nzz\r\nabc\r\n0\r\n\r\n"),
+    Case("bad_chunk_size", 411, raw=b"POST /api/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+         b"Connection: close\r\nTransfer-Encoding: chunked\r\n\r\nzz\r\nabc\r\n0\r\n\r\n"),
     # Bearer tokens (a server with --token): POST and DELETE need it.
     Case("token_missing_on_submit", 401, server="token", body={"scene": "cornell-box"}),
     Case("token_wrong_on_submit", 401, server="token", body={"scene": "cornell-box"},

@@ -201,14 +201,15 @@ def test_refused_body_does_not_spoil_the_connection(servers):
     # the body left unread is not taken for the next request (a keep-alive client retries fine).
     server = servers("token")
     body = json.dumps({"scene": TINY_SCENE, "settings": {"spp": 1}})
+    json_type = {"Content-Type": "application/json"}  # a body without one is 415
     with requests.Session() as session:
         for _ in range(3):
             r = session.post(server.url("/api/jobs"), data=body, timeout=30,
-                             headers={"Authorization": "Bearer wrong"})
+                             headers={"Authorization": "Bearer wrong", **json_type})
             assert_problem(r, 401)
             assert r.headers["Connection"] == "close"
         r = session.post(server.url("/api/jobs"), data=body, timeout=30,
-                         headers={"Authorization": "Bearer " + TOKEN})
+                         headers={"Authorization": "Bearer " + TOKEN, **json_type})
         assert r.status_code == 202, r.text
     server.healthy()
     server.wait(r.json()["id"], {"succeeded"})
@@ -219,7 +220,8 @@ def test_post_without_a_body_needs_no_content_length(servers):
     server = servers("main")
     with socket.create_connection(("127.0.0.1", server.port), timeout=30) as sock:
         sock.settimeout(5)  # it was read until the connection closed, then 400 after 10 s
-        sock.sendall(f"POST /api/jobs/{UNKNOWN_ID}/cancel HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+        sock.sendall(f"POST /api/jobs/{UNKNOWN_ID}/cancel HTTP/1.1\r\n"
+                     "Host: 127.0.0.1\r\n\r\n".encode())
         response = http.client.HTTPResponse(sock)
         response.begin()
         r = RawResponse(response.status, response.headers, response.read())

@@ -18,9 +18,10 @@ const SHOTS = process.env.CAUSTIC_WEB_SCREENSHOTS;
 
 let browser;
 
-export async function launch() {
+/** Starts the browser; `args` are more Chromium flags. */
+export async function launch(args = []) {
   mkdirSync(SHOTS, {recursive: true});
-  browser = await chromium.launch({executablePath: process.env.CHROMIUM, args: ['--no-sandbox']});
+  browser = await chromium.launch({executablePath: process.env.CHROMIUM, args: ['--no-sandbox', ...args]});
   return browser;
 }
 

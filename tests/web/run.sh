@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Browser tests of the web page (tests/web/web.test.mjs): starts the real `caustic serve` on
+# Browser tests of the web page (tests/web/web.test.mjs) and of the rules against other web sites
+# (tests/web/safety.test.mjs, one file after the other): starts the real `caustic serve` on
 # 127.0.0.1 (a free port, a temporary data folder, small limits), runs the tests in Debian's
 # Chromium, headless, through playwright-core, and stops the server. Bounded in time.
 # Usage: tests/web/run.sh [CAUSTIC_BINARY]   (default build/cli/caustic)
@@ -65,9 +66,11 @@ fi
 echo "web tests: caustic serve at $url"
 
 status=0
-CAUSTIC_WEB_URL="$url" CAUSTIC_WEB_NODE_MODULES="$modules/node_modules" CHROMIUM="$chromium" \
-    CAUSTIC_WEB_SCREENSHOTS="$build_dir/web-screenshots" CAUSTIC_WEB_MAX_SPP="$max_spp" \
-    timeout -k 10 780 node --test --test-reporter=spec "$repo/tests/web/web.test.mjs" || status=$?
+export CAUSTIC_WEB_URL="$url" CAUSTIC_WEB_NODE_MODULES="$modules/node_modules" CHROMIUM="$chromium" \
+    CAUSTIC_WEB_SCREENSHOTS="$build_dir/web-screenshots" CAUSTIC_WEB_MAX_SPP="$max_spp"
+# One file after the other: they share the server and its one worker.
+timeout -k 10 600 node --test --test-reporter=spec "$repo/tests/web/web.test.mjs" || status=$?
+timeout -k 10 180 node --test --test-reporter=spec "$repo/tests/web/safety.test.mjs" || status=$?
 if [ "$status" -ne 0 ]; then
     echo "web tests: failed ($status); the server's log:" >&2
     tail -n 40 "$work/server.log" >&2
