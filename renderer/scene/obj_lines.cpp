@@ -47,7 +47,10 @@ std::vector<std::string_view> fieldsOf(std::string_view line) {
 
 std::string quoted(std::string_view field) {
     constexpr size_t kShown = 40;
-    return "\"" + std::string(field.substr(0, kShown)) + (field.size() > kShown ? "...\"" : "\"");
+    std::string q = "\"";
+    q.append(field.substr(0, kShown));
+    q.append(field.size() > kShown ? "...\"" : "\"");
+    return q;
 }
 
 // A number as tinyobjloader writes and reads them ("1", "-.5", "+2e3"), whole.
