@@ -1,6 +1,7 @@
 #include "scene/glb_accessors.h"
 
 #include <cstring>
+#include <sstream>
 #include <string>
 
 namespace caustic {
@@ -53,6 +54,7 @@ const tinygltf::Accessor& accessorAt(const tinygltf::Model& m, int index,
 // inside its buffer.
 struct ElementBytes {
     const unsigned char* first;
+    size_t elementSize;
     size_t stride;
     size_t count;
     const unsigned char* operator[](size_t i) const { return first + i * stride; }
@@ -93,48 +95,63 @@ ElementBytes elementsOf(const tinygltf::Model& m, int index, size_t elementSize,
                     " apart from offset " + std::to_string(a.byteOffset) +
                     ", run past the end of bufferView " + std::to_string(a.bufferView) + " (" +
                     std::to_string(room) + " bytes)");
-    return {buffer.data() + v.byteOffset + a.byteOffset, stride, a.count};
+    return {buffer.data() + v.byteOffset + a.byteOffset, elementSize, stride, a.count};
 }
 
-}  // namespace
-
-std::vector<Vec3> readPositions(const tinygltf::Model& m, int index, const MeshErrors& errors) {
+// The accessor's elements once its type suits `use` and its bytes are in range.
+ElementBytes checkedElements(const tinygltf::Model& m, int index, AccessorUse use,
+                             const MeshErrors& errors) {
     const tinygltf::Accessor& a = accessorAt(m, index, errors);
-    if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-        errors.fail(at(index) + "POSITION must be FLOAT VEC3, not " + typeName(a));
-    ElementBytes bytes = elementsOf(m, index, sizeof(float) * 3, errors);
-    std::vector<Vec3> positions(bytes.count);
-    for (size_t i = 0; i < bytes.count; ++i) {
-        std::memcpy(&positions[i], bytes[i], sizeof(float) * 3);
-        const Vec3& p = positions[i];
-        if (!isFinite(p))
-            errors.fail(at(index) + "vertex " + std::to_string(i) + " is not finite (" +
-                        std::to_string(p.x) + ", " + std::to_string(p.y) + ", " +
-                        std::to_string(p.z) + ")");
+    if (use == AccessorUse::Positions) {
+        if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+            errors.fail(at(index) + "POSITION must be FLOAT VEC3, not " + typeName(a));
+        return elementsOf(m, index, sizeof(float) * 3, errors);
     }
-    return positions;
-}
-
-std::vector<uint32_t> readIndices(const tinygltf::Model& m, int index, size_t vertexCount,
-                                  const MeshErrors& errors) {
-    const tinygltf::Accessor& a = accessorAt(m, index, errors);
     size_t size = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
                   : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
                   : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
                                                                               : 0;
     if (a.type != TINYGLTF_TYPE_SCALAR || size == 0)
         errors.fail(at(index) +
-                    "indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or "
-                    "UNSIGNED_INT, not " +
+                    "indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, "
+                    "not " +
                     typeName(a));
     if (a.count % 3 != 0)
         errors.fail(at(index) + std::to_string(a.count) +
                     " indices are not whole triangles (a multiple of 3)");
-    ElementBytes bytes = elementsOf(m, index, size, errors);
+    return elementsOf(m, index, size, errors);
+}
+
+}  // namespace
+
+size_t checkAccessor(const tinygltf::Model& m, int index, AccessorUse use,
+                     const MeshErrors& errors) {
+    return checkedElements(m, index, use, errors).count;
+}
+
+std::vector<Vec3> readPositions(const tinygltf::Model& m, int index, const MeshErrors& errors) {
+    ElementBytes bytes = checkedElements(m, index, AccessorUse::Positions, errors);
+    std::vector<Vec3> positions(bytes.count);
+    for (size_t i = 0; i < bytes.count; ++i) {
+        std::memcpy(&positions[i], bytes[i], sizeof(float) * 3);
+        const Vec3& p = positions[i];
+        if (!isFinite(p)) {
+            std::ostringstream text;
+            text << "vertex " << i << " is not finite (" << p.x << ", " << p.y << ", " << p.z
+                 << ")";
+            errors.fail(at(index) + text.str());
+        }
+    }
+    return positions;
+}
+
+std::vector<uint32_t> readIndices(const tinygltf::Model& m, int index, size_t vertexCount,
+                                  const MeshErrors& errors) {
+    ElementBytes bytes = checkedElements(m, index, AccessorUse::Indices, errors);
     std::vector<uint32_t> indices(bytes.count);
     for (size_t i = 0; i < bytes.count; ++i) {
         uint32_t value = 0;  // little-endian: the low bytes of a uint32_t hold a narrower value
-        std::memcpy(&value, bytes[i], size);
+        std::memcpy(&value, bytes[i], bytes.elementSize);
         if (value >= vertexCount)
             errors.fail(at(index) + "index " + std::to_string(value) +
                         " is out of range (POSITION has " + std::to_string(vertexCount) +

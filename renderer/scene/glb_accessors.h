@@ -13,6 +13,14 @@
 
 namespace caustic {
 
+enum class AccessorUse { Positions, Indices };
+
+/// Checks that the accessor suits `use` (POSITION: FLOAT VEC3; indices: SCALAR of UNSIGNED_BYTE,
+/// UNSIGNED_SHORT or UNSIGNED_INT, whole triangles) and that all its bytes lie inside its
+/// bufferView, and the view inside its buffer; returns its count of elements, reading none.
+size_t checkAccessor(const tinygltf::Model& model, int accessor, AccessorUse use,
+                     const MeshErrors& errors);
+
 /// A POSITION accessor's points: FLOAT VEC3, every coordinate finite. Fails naming the accessor
 /// ("accessor 3: ...") or its bufferView.
 std::vector<Vec3> readPositions(const tinygltf::Model& model, int accessor,

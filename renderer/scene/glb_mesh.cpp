@@ -5,6 +5,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
@@ -55,6 +56,8 @@ tinygltf::Model loadModel(std::string_view bytes, const MeshErrors& errors) {
     return model;
 }
 
+constexpr double kFloatMax = std::numeric_limits<float>::max();
+
 const char* modeName(int mode) {
     constexpr const char* kNames[] = {"points",    "lines",          "line loop",   "line strip",
                                       "triangles", "triangle strip", "triangle fan"};
@@ -64,19 +67,26 @@ const char* modeName(int mode) {
 // Walks the node trees and gathers the instanced triangles.
 class NodeWalk {
 public:
+    struct Instance {
+        size_t node;
+        glm::dmat4 world;  ///< The node's global transform: its parents' and its own.
+    };
+
     NodeWalk(const tinygltf::Model& model, const MeshTransform& transform, const MeshErrors& errors)
         : m_(model), transform_(transform), errors_(errors) {}
 
     TriangleMesh run() {
-        std::vector<int> parents = parentsOf();
-        checkAcyclic(parents);
-        std::vector<bool> drawn(m_.nodes.size(), false);
-        // Every scene's roots, or every parentless node when the file has no scene.
-        for (int root : roots(parents)) {
-            if (drawn[size_t(root)]) continue;  // in two scenes, or twice in one: drawn once
-            drawn[size_t(root)] = true;
-            drawTree(root);
+        std::vector<Instance> instances = instancesOf(rootsOf(parentsOf()));
+        // Counted before any element is read: nodes may instance one mesh many times.
+        uint64_t elements = 0;
+        for (const Instance& instance : instances) {
+            elements += elementsOf(instance.node);
+            if (elements > kMaxGlbElements)
+                errors_.fail(node(instance.node) + ": the nodes' meshes make more than " +
+                             std::to_string(kMaxGlbElements) +
+                             " vertices and triangles together, the most a .glb may make");
         }
+        for (const Instance& instance : instances) drawMesh(instance);
         if (mesh_.triangles.empty())
             errors_.fail("has no triangles (no node of a scene has a triangle mesh)");
         return std::move(mesh_);
@@ -121,7 +131,9 @@ private:
         }
     }
 
-    std::vector<int> roots(const std::vector<int>& parents) const {
+    // Every scene's roots, or every parentless node when the file has no scene.
+    std::vector<int> rootsOf(const std::vector<int>& parents) const {
+        checkAcyclic(parents);
         std::vector<int> roots;
         if (m_.scenes.empty()) {
             for (size_t i = 0; i < parents.size(); ++i)
@@ -171,40 +183,78 @@ private:
         return m;
     }
 
-    // Depth first with a stack of its own: a chain of nodes may be as long as the file allows.
-    void drawTree(int root) {
-        std::vector<std::pair<size_t, glm::dmat4>> stack{{size_t(root), glm::dmat4(1.0)}};
-        while (!stack.empty()) {
-            auto [i, parentWorld] = stack.back();
-            stack.pop_back();
-            glm::dmat4 world = parentWorld * localOf(i);
-            const tinygltf::Node& n = m_.nodes[i];
-            if (n.mesh >= 0) drawMesh(i, world);
-            for (int child : n.children) stack.emplace_back(size_t(child), world);
+    // The nodes with a mesh and their world transforms, depth first with a stack of its own (a
+    // chain of nodes may be as long as the file allows). A root in two scenes, or twice in one,
+    // is drawn once; any other node has one parent and so is reached once.
+    std::vector<Instance> instancesOf(const std::vector<int>& roots) const {
+        std::vector<Instance> instances;
+        std::vector<bool> reached(m_.nodes.size(), false);
+        std::vector<Instance> stack;
+        for (int root : roots) {
+            if (reached[size_t(root)]) continue;
+            reached[size_t(root)] = true;
+            stack.push_back({size_t(root), glm::dmat4(1.0)});
+            while (!stack.empty()) {
+                Instance parent = stack.back();
+                stack.pop_back();
+                const tinygltf::Node& n = m_.nodes[parent.node];
+                Instance self{parent.node, parent.world * localOf(parent.node)};
+                if (n.mesh >= 0) instances.push_back(self);
+                for (int child : n.children) stack.push_back({size_t(child), self.world});
+            }
         }
+        return instances;
     }
 
-    void drawMesh(size_t nodeIndex, const glm::dmat4& world) {
+    const tinygltf::Mesh& meshOf(size_t nodeIndex) const {
         int meshIndex = m_.nodes[nodeIndex].mesh;
         if (size_t(meshIndex) >= m_.meshes.size())
             errors_.fail(node(nodeIndex) + ": mesh " + std::to_string(meshIndex) +
                          " does not exist (" + std::to_string(m_.meshes.size()) + " meshes)");
-        const tinygltf::Mesh& mesh = m_.meshes[size_t(meshIndex)];
-        for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-            std::string at =
-                "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p) + ": ";
-            drawPrimitive(mesh.primitives[p], at, nodeIndex, world);
-        }
+        return m_.meshes[size_t(meshIndex)];
     }
 
-    void drawPrimitive(const tinygltf::Primitive& prim, const std::string& at, size_t nodeIndex,
-                       const glm::dmat4& world) {
+    std::string primitiveName(size_t nodeIndex, size_t p) const {
+        return "mesh " + std::to_string(m_.nodes[nodeIndex].mesh) + " primitive " +
+               std::to_string(p) + ": ";
+    }
+
+    // The POSITION accessor of a triangle primitive.
+    int positionsOf(const tinygltf::Primitive& prim, const std::string& at) const {
         if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES)
             errors_.fail(at + "mode " + std::to_string(prim.mode) + " (" + modeName(prim.mode) +
                          ") is not read; only triangles (mode 4)");
         auto position = prim.attributes.find("POSITION");
         if (position == prim.attributes.end()) errors_.fail(at + "has no POSITION attribute");
-        std::vector<Vec3> points = readPositions(m_, position->second, errors_);
+        return position->second;
+    }
+
+    // The vertices and triangles the node's mesh adds, from its accessors' checked counts.
+    uint64_t elementsOf(size_t nodeIndex) const {
+        const tinygltf::Mesh& mesh = meshOf(nodeIndex);
+        uint64_t elements = 0;
+        for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+            const tinygltf::Primitive& prim = mesh.primitives[p];
+            size_t vertices = checkAccessor(m_, positionsOf(prim, primitiveName(nodeIndex, p)),
+                                            AccessorUse::Positions, errors_);
+            size_t corners = prim.indices >= 0
+                                 ? checkAccessor(m_, prim.indices, AccessorUse::Indices, errors_)
+                                 : vertices;
+            elements += uint64_t(vertices) + corners / 3;
+        }
+        return elements;
+    }
+
+    void drawMesh(const Instance& instance) {
+        const tinygltf::Mesh& mesh = meshOf(instance.node);
+        for (size_t p = 0; p < mesh.primitives.size(); ++p)
+            drawPrimitive(mesh.primitives[p], primitiveName(instance.node, p), instance);
+    }
+
+    void drawPrimitive(const tinygltf::Primitive& prim, const std::string& at,
+                       const Instance& instance) {
+        const int positionAccessor = positionsOf(prim, at);
+        std::vector<Vec3> points = readPositions(m_, positionAccessor, errors_);
         std::vector<uint32_t> indices;
         if (prim.indices >= 0) {
             indices = readIndices(m_, prim.indices, points.size(), errors_);
@@ -215,19 +265,18 @@ private:
                              " unindexed vertices are not whole triangles (a multiple of 3)");
             for (uint32_t v = 0; v < points.size(); ++v) indices.push_back(v);
         }
-        const uint64_t total =
-            mesh_.positions.size() + mesh_.triangles.size() + points.size() + indices.size() / 3;
-        if (total > kMaxGlbElements)
-            errors_.fail(node(nodeIndex) + ": the nodes' meshes make more than " +
-                         std::to_string(kMaxGlbElements) +
-                         " vertices and triangles together, the most a .glb may make");
-
+        const glm::dmat4& world = instance.world;
         const uint32_t base = uint32_t(mesh_.positions.size());
         for (size_t v = 0; v < points.size(); ++v) {
-            Vec3 p = transform_.apply(Vec3(world * glm::dvec4(glm::dvec3(points[v]), 1.0)));
+            // In double until the point is known to fit a float (a larger double has no float).
+            glm::dvec3 q(world * glm::dvec4(glm::dvec3(points[v]), 1.0));
+            bool fits = std::abs(q.x) <= kFloatMax && std::abs(q.y) <= kFloatMax &&
+                        std::abs(q.z) <= kFloatMax;
+            Vec3 p = fits ? transform_.apply(Vec3(q)) : Vec3(kInfinity);
             if (!isFinite(p))
-                errors_.fail(node(nodeIndex) + ": vertex " + std::to_string(v) + " of accessor " +
-                             std::to_string(position->second) + " is not finite once transformed");
+                errors_.fail(node(instance.node) + ": vertex " + std::to_string(v) +
+                             " of accessor " + std::to_string(positionAccessor) +
+                             " is not finite once transformed");
             mesh_.positions.push_back(p);
         }
         // A mirroring transform turns counter-clockwise faces clockwise; swapping two corners keeps

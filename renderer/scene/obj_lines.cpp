@@ -47,7 +47,10 @@ std::vector<std::string_view> fieldsOf(std::string_view line) {
 
 std::string quoted(std::string_view field) {
     constexpr size_t kShown = 40;
-    return "\"" + std::string(field.substr(0, kShown)) + (field.size() > kShown ? "...\"" : "\"");
+    std::string q = "\"";
+    q.append(field.substr(0, kShown));
+    q.append(field.size() > kShown ? "...\"" : "\"");
+    return q;
 }
 
 // A number as tinyobjloader writes and reads them ("1", "-.5", "+2e3"), whole.
@@ -142,14 +145,16 @@ void checkObjLines(std::string_view bytes, const MeshErrors& errors) {
     for (size_t start = 0; start < bytes.size();) {
         size_t end = std::min(bytes.find_first_of("\r\n", start), bytes.size());
         std::string_view line = bytes.substr(start, end - start);
-        std::string at = "line " + std::to_string(++number) + ": ";
-        if (auto c = firstBinaryByte(line)) errors.fail(at + "binary data (byte " + hex(*c) + ")");
-        if (std::string e = checker.check(line); !e.empty()) {
+        ++number;
+        auto fail = [&](const std::string& what) {
+            errors.fail("line " + std::to_string(number) + ": " + what);
+        };
+        if (auto c = firstBinaryByte(line)) fail("binary data (byte " + hex(*c) + ")");
+        if (std::string e = checker.check(line); !e.empty())
             // A statement is complete only at its end of line.
-            if (end == bytes.size())
-                at += "the file ends in the middle of a statement (truncated): ";
-            errors.fail(at + e);
-        }
+            fail(end == bytes.size()
+                     ? "the file ends in the middle of a statement (truncated): " + e
+                     : e);
         start = end + (bytes.compare(end, 2, "\r\n") == 0 ? 2 : 1);
     }
     if (checker.faces() == 0) errors.fail("has no faces (no triangles)");
