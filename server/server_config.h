@@ -23,6 +23,10 @@ struct ServiceLimits {
     double maxMemoryMiB = 4096;     ///< Estimated peak; a job's memory_limit is capped by it.
     int maxQueuedJobs = 100;        ///< Queued (not yet running) jobs.
     int maxEventStreams = 64;       ///< Concurrent Server-Sent Events connections.
+    size_t maxAssetBytes = size_t(256) << 20;  ///< One uploaded mesh file (413 above).
+    int64_t maxAssetTriangles = 20000000;      ///< One uploaded mesh, as loaded (422 above).
+    int64_t maxAssetStorageMiB = 4096;         ///< Every stored asset together (507 above).
+    int maxUploads = 4;                        ///< Uploads read and checked at once (429 above).
 };
 
 /// What the service keeps and for how long (jobs/retention.h), and the free space it needs on the

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "jobs/asset_service.h"
 #include "jobs/job_events.h"
 #include "jobs/job_service.h"
 #include "jobs/retention.h"
@@ -47,6 +48,7 @@ private:
     StorageCounters storage_;
     std::unique_ptr<RetentionSweeper> retention_;
     std::unique_ptr<JobService> jobs_;
+    std::unique_ptr<AssetService> assets_;
     std::unique_ptr<httplib::Server> http_;
     std::atomic<int> eventStreams_{0};
     std::atomic<bool> stopping_{false};

@@ -31,7 +31,11 @@ void storageMetrics(ApiContext& api, std::ostream& out) {
         << "caustic_retention_jobs_removed_total{reason=\"keep_days\"} "
         << api.storage.jobsRemovedTooOld.load() << "\n"
         << "caustic_retention_jobs_removed_total{reason=\"max_stored_jobs\"} "
-        << api.storage.jobsRemovedOverCount.load() << "\n";
+        << api.storage.jobsRemovedOverCount.load() << "\n"
+        << "# HELP caustic_retention_assets_removed_total Uploaded assets removed, unused by any "
+           "job for --keep-days.\n"
+           "# TYPE caustic_retention_assets_removed_total counter\n"
+        << "caustic_retention_assets_removed_total " << api.storage.assetsRemoved.load() << "\n";
 }
 
 std::string metricsText(ApiContext& api) {

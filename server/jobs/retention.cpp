@@ -51,12 +51,29 @@ int RetentionSweeper::sweep(double now) {
     } catch (const std::exception& e) {
         spdlog::error("retention: {}", e.what());
     }
-    // Unused assets go here too once uploads land: JobStore::removeUnusedAssets(now - keepDays *
-    // 86400) removes the assets no job has used since then and returns their ids, to be logged
-    // and counted as the jobs are.
+    try {
+        removed += removeUnusedAssets(now);
+    } catch (const std::exception& e) {
+        spdlog::error("retention: {}", e.what());
+    }
     counters_.dataBytes = diskUsage(config_.dataDir);
     ++counters_.sweeps;
     return removed;
+}
+
+int RetentionSweeper::removeUnusedAssets(double now) {
+    // An asset is used while a job that names it exists (finished ones included, until retention
+    // or a client deletes them): it goes --keep-days after its last use by an upload or a job.
+    const double keepDays = config_.storage.keepDays;
+    if (keepDays <= 0) return 0;
+    const std::vector<std::string> ids = store_.removeUnusedAssets(now - keepDays * 86400);
+    if (ids.empty()) return 0;
+    counters_.assetsRemoved += ids.size();
+    std::string list;
+    for (const std::string& id : ids) list += (list.empty() ? "" : " ") + id;
+    spdlog::info("retention removed {} asset(s) no job used for {} day(s) (--keep-days): {}",
+                 ids.size(), keepDays, list);
+    return int(ids.size());
 }
 
 int RetentionSweeper::removeExpiredJobs(double now) {

@@ -1,7 +1,8 @@
 // Retention (DESIGN.md, "Service"): a thread that, every --sweep-seconds, removes the finished
 // jobs (succeeded, failed, cancelled) that finished more than --keep-days ago or are beyond the
-// --max-stored-jobs most recently finished, with their files and idempotency records, and
-// measures the data folder's disk use for /metrics. Queued and running jobs are never removed.
+// --max-stored-jobs most recently finished, with their files and idempotency records, and the
+// uploaded assets no job has used for --keep-days, and measures the data folder's disk use for
+// /metrics. Queued and running jobs are never removed.
 #pragma once
 
 #include <atomic>
@@ -22,6 +23,7 @@ struct StorageCounters {
     std::atomic<uint64_t> sweeps{0};
     std::atomic<uint64_t> jobsRemovedTooOld{0};     ///< Finished more than --keep-days ago.
     std::atomic<uint64_t> jobsRemovedOverCount{0};  ///< Beyond --max-stored-jobs only.
+    std::atomic<uint64_t> assetsRemoved{0};         ///< Unused by any job for --keep-days.
     std::atomic<uint64_t> dataBytes{0};  ///< The data folder's disk use at the last sweep.
 };
 
@@ -46,6 +48,7 @@ public:
 private:
     void run();
     int removeExpiredJobs(double now);
+    int removeUnusedAssets(double now);
 
     const ServerConfig& config_;
     JobStore& store_;

@@ -7,7 +7,7 @@ import os
 import re
 import time
 
-from conftest import run_to_end, submit_ok, tiny_job
+from conftest import run_to_end, submit_ok, tiny_job, tiny_scene
 
 # 0.00004 days is 3.456 s: long enough to see a finished job's files before they go.
 KEEP_DAYS = 0.00004
@@ -36,6 +36,12 @@ def wait_until(condition, what, deadline=30):
     while not condition():
         assert time.monotonic() < end, f"{what} did not happen within {deadline} s"
         time.sleep(0.05)
+
+
+def whole_log(server):
+    """The server's stderr, all of it (Server.log() keeps the tail, mostly access-log lines)."""
+    with open(server.log_path, encoding="utf-8", errors="replace") as f:
+        return f.read()
 
 
 def gone(server, job_id):
@@ -81,9 +87,10 @@ def test_finished_jobs_and_their_files_go_after_keep_days(start_server):
     assert server.post(f"/api/jobs/{running}/cancel").status_code == 202
     server.wait(running, {"cancelled"})
     wait_until(lambda: gone(server, running), "removing the cancelled job")
-    log = server.log()
+    # The sweep logs a removal after the job has left the store: wait for the line.
     for job_id in finished + [running]:
-        assert re.search(r"retention removed \d+ finished job\(s\).*" + job_id, log), log
+        pattern = r"retention removed \d+ finished job\(s\).*" + job_id
+        wait_until(lambda: re.search(pattern, whole_log(server)), f"the log line removing {job_id}")
     server.healthy()
 
 
@@ -134,3 +141,35 @@ def test_metrics_show_the_data_folders_disk_use_and_free_space(start_server):
     assert 0 < values["caustic_data_filesystem_avail_bytes"] <= fs.f_blocks * fs.f_frsize
     assert abs(values["caustic_data_filesystem_avail_bytes"] - fs.f_bavail * fs.f_frsize) \
         < 256 << 20  # other processes write to the same file system meanwhile
+
+
+def test_unused_assets_go_after_keep_days_and_a_job_holds_its_own(start_server):
+    server = start_server("--threads", "2", "--keep-days", str(KEEP_DAYS), "--sweep-seconds",
+                          "0.2")
+    triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+
+    def upload(text):
+        r = server.post("/api/assets", data=text.encode(), headers={"Content-Type": "model/obj"})
+        assert r.status_code == 201, r.text
+        return r.json()["id"]
+
+    unused = upload(triangle)
+    held = upload(triangle + "v 0 0 1\nf 1 2 4\n")
+    # A long job holds `held` (a queued or running job's asset is never removed).
+    scene = tiny_scene(width=256, height=256)
+    scene["shapes"] = scene["shapes"] + [
+        {"type": "mesh", "asset": held, "material": "white", "transform": {"scale": 0.1}}]
+    job = submit_ok(server, {"scene": scene,
+                             "settings": {"spp": 65536, "spp_per_pass": 1, "time_limit": 120}})
+    wait_until(lambda: server.get(f"/api/assets/{unused}").status_code == 404,
+               "removing the unused asset")
+    wait_until(lambda: re.search(r"retention removed 1 asset\(s\).*" + unused, whole_log(server)),
+               "the log line removing the unused asset")
+    time.sleep(2 * KEEP_SECONDS)
+    assert server.get(f"/api/assets/{held}").status_code == 200
+    assert metrics(server)[0]["caustic_retention_assets_removed_total"] == 1
+    # Once its job is gone (deleted here; retention would in time), the asset goes too.
+    assert server.delete(f"/api/jobs/{job['id']}").status_code == 204
+    wait_until(lambda: server.get(f"/api/assets/{held}").status_code == 404,
+               "removing the asset after its job was deleted")
+    assert metrics(server)[0]["caustic_retention_assets_removed_total"] == 2
