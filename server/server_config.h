@@ -31,6 +31,7 @@ struct ServerConfig {
     std::filesystem::path assetsDir;  ///< Mesh files resolve inside it only.
     std::filesystem::path scenesDir;  ///< Example scenes, submitted by name.
     std::filesystem::path webDir;     ///< Static files of the web page.
+    std::filesystem::path docsDir;    ///< The documentation (docs/), served at /docs/.
     std::string token;      ///< Bearer token for mutating requests; required off loopback.
     int workers = 1;        ///< Jobs rendered at once.
     int renderThreads = 0;  ///< Threads per render; 0 for every core.

@@ -30,6 +30,21 @@ def test_openapi_document_is_the_source_file(server):
         assert r.json() == json.load(f)
 
 
+def test_scene_format_is_served_where_the_openapi_document_links(server):
+    # The API's externalDocs and its scene schema point at the scene format, served from docs/.
+    document = server.get("/api/openapi.json").json()
+    links = {document["externalDocs"]["url"]}
+    for variant in document["components"]["schemas"]["JobRequest"]["properties"]["scene"]["oneOf"]:
+        if "externalDocs" in variant:
+            links.add(variant["externalDocs"]["url"])
+    assert links == {"/docs/scene-format.md"}
+    r = server.get("/docs/scene-format.md")
+    assert r.status_code == 200
+    assert r.headers["Content-Type"] == "text/markdown; charset=utf-8"
+    with open(os.path.join(ROOT, "docs", "scene-format.md"), encoding="utf-8") as f:
+        assert r.text == f.read()
+
+
 def test_scenes(server):
     r = server.get("/api/scenes")
     assert r.status_code == 200
