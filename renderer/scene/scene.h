@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "materials/material.h"
 #include "scene/camera.h"
 #include "scene/mesh_counts.h"
+#include "scene/mesh_file.h"
 
 namespace caustic {
 
@@ -54,6 +56,17 @@ struct Scene {
     }
 };
 
+/// An uploaded mesh as the scene loader sees it: what the service stored at upload.
+struct MeshAsset {
+    MeshFormat format = MeshFormat::Obj;
+    MeshCounts counts;                         ///< Stored at upload: admission estimates from them.
+    std::shared_ptr<const std::string> bytes;  ///< The file; may be null when only counting.
+};
+/// Finds an asset by id (64 lowercase hex digits, checked by the loader first); throws InputError
+/// at `path` ("no asset ..."). needBytes is false when SceneOptions::countMeshesOnly.
+using MeshAssetResolver =
+    std::function<MeshAsset(const std::string& id, const std::string& path, bool needBytes)>;
+
 struct SceneOptions {
     /// Folder that mesh "file" names resolve in; no name may leave it.
     std::filesystem::path assetsDir;
@@ -65,6 +78,9 @@ struct SceneOptions {
     bool countMeshesOnly = false;
     /// With countMeshesOnly, where counts of files already scanned are kept (none: scan each).
     MeshCountCache* meshCounts = nullptr;
+    /// Finds the uploaded meshes that "asset" shapes name; empty: an "asset" shape is an
+    /// InputError at its path.
+    MeshAssetResolver resolveMeshAsset;
 };
 
 /// Builds a scene from its JSON document (DESIGN.md, "Scene format"). Throws InputError naming the

@@ -11,6 +11,7 @@
 #include "materials/diffuse.h"
 #include "materials/mirror.h"
 #include "scene/json_reader.h"
+#include "scene/mesh_file.h"
 #include "scene/mesh_loader.h"
 #include "scene/scene.h"
 
@@ -128,6 +129,62 @@ MeshTransform readTransform(const Json& j, const std::string& path, const Frame&
     return t;
 }
 
+// An uploaded mesh's id: the SHA-256 of its bytes in lowercase hexadecimal.
+bool isAssetId(const std::string& id) {
+    return id.size() == 64 && std::all_of(id.begin(), id.end(), [](char c) {
+               return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+           });
+}
+
+// A mesh from exactly one of "file" (an OBJ in the assets folder) or "asset" (an uploaded mesh).
+void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions& options,
+              const Frame& frame) {
+    const Json* fileField = o.find("file");
+    const Json* assetField = o.find("asset");
+    if (fileField && assetField)
+        throw InputError(o.path(), "a mesh has \"file\" or \"asset\", not both");
+    if (!fileField && !assetField)
+        throw InputError(o.path(),
+                         "a mesh needs \"file\" (an OBJ in the assets folder) or "
+                         "\"asset\" (an uploaded mesh's id)");
+    const std::string key = fileField ? "file" : "asset";
+    const std::string at = o.pathOf(key);
+    const std::string name = o.string(key);
+    // Without a transform the mesh stays where its file puts it, relative to the camera.
+    MeshTransform transform;
+    transform.translate = Vec3(-frame.origin);
+    if (const Json* t = o.find("transform"))
+        transform = readTransform(*t, o.pathOf("transform"), frame);
+
+    if (fileField) {
+        std::filesystem::path full = resolveAsset(options.assetsDir, name, at);
+        if (options.countMeshesOnly) {
+            MeshCounts counts =
+                options.meshCounts ? options.meshCounts->counts(full, at) : countObj(full, at);
+            scene.countedMeshes.push_back({counts, material});
+        } else {
+            TriangleMesh mesh = loadObj(full, transform, at);
+            scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
+        }
+        return;
+    }
+    if (!isAssetId(name))
+        throw InputError(at,
+                         "must be an asset id: 64 lowercase hexadecimal digits (the SHA-256 "
+                         "of the file)");
+    if (!options.resolveMeshAsset)
+        throw InputError(at, "this renderer has no asset store; use \"file\"");
+    // Admission counts from what the upload stored; only a render reads the bytes.
+    MeshAsset asset = options.resolveMeshAsset(name, at, !options.countMeshesOnly);
+    if (options.countMeshesOnly) {
+        scene.countedMeshes.push_back({asset.counts, material});
+        return;
+    }
+    if (!asset.bytes) throw InputError(at, "the asset store gave no bytes for asset " + name);
+    TriangleMesh mesh = parseMeshBytes(*asset.bytes, asset.format, transform, "asset " + name, at);
+    scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
+}
+
 void readShape(const Json& j, const std::string& path, Scene& scene, const SceneOptions& options,
                const Frame& frame) {
     JsonObject o(j, path);
@@ -157,22 +214,7 @@ void readShape(const Json& j, const std::string& path, Scene& scene, const Scene
             throw InputError(at, "the triangle has no area");
         scene.geometry.addTriangles(p, {glm::uvec3(0, 1, 2)}, material);
     } else {
-        std::string file = o.string("file");
-        // Without a transform the mesh stays where its file puts it, relative to the camera.
-        MeshTransform transform;
-        transform.translate = Vec3(-frame.origin);
-        if (const Json* t = o.find("transform"))
-            transform = readTransform(*t, o.pathOf("transform"), frame);
-        std::filesystem::path full = resolveAsset(options.assetsDir, file, o.pathOf("file"));
-        if (options.countMeshesOnly) {
-            MeshCounts counts = options.meshCounts
-                                    ? options.meshCounts->counts(full, o.pathOf("file"))
-                                    : countObj(full, o.pathOf("file"));
-            scene.countedMeshes.push_back({counts, material});
-        } else {
-            TriangleMesh mesh = loadObj(full, transform, o.pathOf("file"));
-            scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
-        }
+        readMesh(o, material, scene, options, frame);
     }
     o.finish();
 }

@@ -4,6 +4,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 
 #include "accel/bruteforce.h"
 #include "accel/kdtree/kdtree.h"
+#include "scene/mesh_loader.h"
 #include "support/accel_agreement.h"
 
 namespace caustic::fuzz {
@@ -75,6 +77,25 @@ inline void checkKdTree(const Geometry& g, const std::vector<Ray>& rays) {
     }
     if (auto disagreement = testing::firstDisagreement(kdtree, brute, near))
         fail("kd-tree and brute force disagree: " + *disagreement);
+}
+
+/// What a mesh loader promises the geometry: indices in range and finite vertices; then the
+/// kd-tree over the mesh against brute force, on rays from outside the mesh's box and from its
+/// center.
+inline void checkMesh(const TriangleMesh& mesh) {
+    for (const glm::uvec3& t : mesh.triangles)
+        if (std::max({t.x, t.y, t.z}) >= mesh.positions.size())
+            fail("a face index out of range passed the loader");
+    for (const Vec3& p : mesh.positions)
+        if (!isFinite(p)) fail("a non-finite vertex passed the loader");
+
+    Geometry g;
+    g.addTriangles(mesh.positions, mesh.triangles, 0);
+    Bounds3 b = g.bounds();
+    std::vector<Ray> rays = raysFrom(b.hi + 0.5f * b.diagonal(), g, 32);
+    std::vector<Ray> inside = raysFrom(b.center(), g, 32);
+    rays.insert(rays.end(), inside.begin(), inside.end());
+    checkKdTree(g, rays);
 }
 
 }  // namespace caustic::fuzz

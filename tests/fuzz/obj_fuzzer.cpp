@@ -22,20 +22,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     } catch (const InputError&) {
         return 0;
     }
-    // What the loader promises the geometry.
-    for (const glm::uvec3& t : mesh.triangles)
-        if (std::max({t.x, t.y, t.z}) >= mesh.positions.size())
-            fuzz::fail("a face index out of range passed the loader");
-    for (const Vec3& p : mesh.positions)
-        if (!isFinite(p)) fuzz::fail("a non-finite vertex passed the loader");
-
-    Geometry g;
-    g.addTriangles(mesh.positions, mesh.triangles, 0);
-    Bounds3 b = g.bounds();
-    // From outside the mesh's box, and from its center.
-    std::vector<Ray> rays = fuzz::raysFrom(b.hi + 0.5f * b.diagonal(), g, 32);
-    std::vector<Ray> inside = fuzz::raysFrom(b.center(), g, 32);
-    rays.insert(rays.end(), inside.begin(), inside.end());
-    fuzz::checkKdTree(g, rays);
+    fuzz::checkMesh(mesh);
     return 0;
 }

@@ -3,7 +3,11 @@
 
 #include <string>
 
+#include <gtest/gtest.h>
+
+#include "core/error.h"
 #include "scene/json_reader.h"
+#include "scene/scene.h"
 
 namespace caustic::testing {
 
@@ -31,6 +35,19 @@ inline Json without(const std::string& pointer) {
     Json doc = baseScene();
     doc[p.parent_pointer()].erase(p.back());
     return doc;
+}
+
+// Expects loading `doc` to fail with exactly this path and message.
+inline void expectSceneError(const Json& doc, const std::string& path, const std::string& message,
+                             const SceneOptions& options) {
+    try {
+        loadScene(doc, options);
+        ADD_FAILURE() << "scene loaded; expected \"" << path << ": " << message << "\"";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.path(), path);
+        EXPECT_EQ(e.message(), message);
+        EXPECT_EQ(std::string(e.what()), (path.empty() ? "/" : path) + ": " + message);
+    }
 }
 
 }  // namespace caustic::testing

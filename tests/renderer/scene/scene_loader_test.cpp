@@ -26,6 +26,7 @@ namespace caustic {
 namespace {
 
 using testing::baseScene;
+using testing::expectSceneError;
 using testing::patched;
 using testing::repoSceneOptions;
 using testing::TempDir;
@@ -39,18 +40,6 @@ Json withShape(const Json& shape) {
 
 Json meshShape(const std::string& file) {
     return Json{{"type", "mesh"}, {"file", file}, {"material", "white"}};
-}
-
-void expectSceneError(const Json& doc, const std::string& path, const std::string& message,
-                      const SceneOptions& options) {
-    try {
-        loadScene(doc, options);
-        ADD_FAILURE() << "scene loaded; expected \"" << path << ": " << message << "\"";
-    } catch (const InputError& e) {
-        EXPECT_EQ(e.path(), path);
-        EXPECT_EQ(e.message(), message);
-        EXPECT_EQ(std::string(e.what()), (path.empty() ? "/" : path) + ": " + message);
-    }
 }
 
 // Each use is one bad-scene case; the trace names the line of the case that failed.

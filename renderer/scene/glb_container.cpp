@@ -1,0 +1,103 @@
+// The glTF binary container checked before tinygltf sees it (mesh_file_parts.h): the 12-byte
+// header, the chunks, and the JSON chunk's buffers and images, none of which may name a URI.
+// Layout from the glTF 2.0 specification, "GLB File Format Specification": a header (magic
+// "glTF", version, total length), then chunks (length, type, data), the JSON chunk first and an
+// optional BIN chunk second, each starting and ending on a 4-byte boundary; little-endian.
+#include <cstdint>
+#include <cstring>
+
+#include "scene/json_reader.h"
+#include "scene/mesh_file_parts.h"
+
+namespace caustic {
+namespace {
+
+constexpr uint32_t kHeaderBytes = 12;
+constexpr uint32_t kJsonChunk = 0x4E4F534A;  // "JSON"
+constexpr uint32_t kBinChunk = 0x004E4942;   // "BIN\0"
+
+uint32_t u32At(std::string_view bytes, size_t offset) {
+    uint32_t v;
+    std::memcpy(&v, bytes.data() + offset, sizeof v);
+    return v;
+}
+
+std::string chunkName(size_t index, uint32_t type) {
+    std::string kind = type == kJsonChunk  ? "JSON"
+                       : type == kBinChunk ? "BIN"
+                                           : "type " + std::to_string(type);
+    return "chunk " + std::to_string(index) + " (" + kind + ")";
+}
+
+// Refuses every "uri" of the named array ("buffers" or "images"): a .glb is accepted only with
+// everything in the file. tinygltf would open a relative URI as a file (its default callbacks)
+// and decode a data: URI of any size.
+void refuseUris(const Json& doc, const char* key, const char* object, const MeshErrors& errors) {
+    auto it = doc.find(key);
+    if (it == doc.end()) return;
+    if (!it->is_array()) errors.fail(std::string("\"") + key + "\" is not an array");
+    for (size_t i = 0; i < it->size(); ++i) {
+        const Json& o = (*it)[i];
+        std::string at = std::string(object) + " " + std::to_string(i) + ": ";
+        if (!o.is_object()) errors.fail(at + "is not an object");
+        auto uri = o.find("uri");
+        if (uri == o.end()) continue;
+        std::string text = uri->is_string() ? uri->get<std::string>() : uri->dump();
+        bool data = text.rfind("data:", 0) == 0;
+        errors.fail(at + "has " +
+                    (data ? "a data: uri" : "the uri \"" + text.substr(0, 60) + "\"") +
+                    "; only a .glb with everything in its BIN chunk is accepted (no URIs)");
+    }
+}
+
+}  // namespace
+
+void checkGlbContainer(std::string_view bytes, const MeshErrors& errors) {
+    // Header.
+    if (bytes.empty()) errors.fail("the file is empty");
+    if (bytes.substr(0, 4) != std::string_view("glTF").substr(0, std::min<size_t>(4, bytes.size())))
+        errors.fail("not a glTF binary (a .glb starts with \"glTF\")");
+    if (bytes.size() < kHeaderBytes)
+        errors.fail("truncated: " + std::to_string(bytes.size()) +
+                    " bytes, and the GLB header alone has 12");
+    if (uint32_t version = u32At(bytes, 4); version != 2)
+        errors.fail("glTF binary version " + std::to_string(version) + "; only version 2 is read");
+    uint32_t length = u32At(bytes, 8);
+    if (length != bytes.size())
+        errors.fail((length > bytes.size() ? "truncated: " : "") + std::string("the header says ") +
+                    std::to_string(length) + " bytes, the file has " +
+                    std::to_string(bytes.size()));
+
+    // Chunks: JSON, then at most one BIN; other types are skipped, as the specification asks.
+    std::string_view json;
+    size_t index = 0;
+    for (size_t offset = kHeaderBytes; offset < length; ++index) {
+        if (length - offset < 8)
+            errors.fail("chunk " + std::to_string(index) + ": truncated (its 8-byte header)");
+        uint32_t size = u32At(bytes, offset), type = u32At(bytes, offset + 4);
+        std::string at = chunkName(index, type) + ": ";
+        if (size > length - offset - 8)
+            errors.fail(at + "truncated: " + std::to_string(size) + " bytes announced, " +
+                        std::to_string(length - offset - 8) + " left");
+        if (size % 4 != 0)
+            errors.fail(at + "its length " + std::to_string(size) + " is not a multiple of 4");
+        if ((index == 0) != (type == kJsonChunk) || (index != 1 && type == kBinChunk))
+            errors.fail(at + "a .glb has its JSON chunk first and at most one BIN chunk, second");
+        if (index == 0) json = bytes.substr(offset + 8, size);
+        offset += 8 + size_t(size);
+    }
+    if (index == 0) errors.fail("chunk 0: missing (a .glb has a JSON chunk)");
+
+    // The JSON chunk: parsed with a depth limit, since tinygltf reads "extras" recursively.
+    std::optional<Json> doc = tryParseJson(std::string(json));
+    if (!doc || !doc->is_object())
+        errors.fail("chunk 0 (JSON): not a JSON object of at most " +
+                    std::to_string(kMaxJsonDepth) + " levels");
+    refuseUris(*doc, "buffers", "buffer", errors);
+    refuseUris(*doc, "images", "image", errors);
+    // Only the first buffer may stand for the BIN chunk ("GLB-stored Buffer").
+    if (auto buffers = doc->find("buffers"); buffers != doc->end() && buffers->size() > 1)
+        errors.fail("buffer 1: a .glb without URIs holds one buffer, its BIN chunk");
+}
+
+}  // namespace caustic

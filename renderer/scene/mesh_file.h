@@ -1,0 +1,48 @@
+// Mesh files users upload (OBJ, and binary glTF): loaded from memory by the real loaders and
+// checked vertex by vertex and index by index, so that a file the service accepts is one it can
+// render.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/math.h"
+#include "scene/mesh_loader.h"
+
+namespace caustic {
+
+enum class MeshFormat { Obj, Glb };
+
+/// "model/obj" -> Obj, "model/gltf-binary" -> Glb (media-type parameters such as "; charset=utf-8"
+/// and case ignored); nothing for any other type.
+std::optional<MeshFormat> meshFormatOfMediaType(std::string_view mediaType);
+const char* mediaTypeOf(MeshFormat format);  ///< "model/obj", "model/gltf-binary"
+const char* nameOf(MeshFormat format);       ///< "obj", "glb"
+std::optional<MeshFormat> meshFormatNamed(std::string_view name);  ///< "obj", "glb"
+
+/// Loads a whole mesh file from memory with the real loader (tinyobjloader; tinygltf for .glb) and
+/// checks every vertex and index. Opens no file (no mtllib, no external glTF buffer or image URI).
+/// Throws InputError at `path`, its message naming `name` and the line (OBJ, "line 12: ...") or
+/// the glTF object ("accessor 3: ...", "buffer 0: ...") at fault: truncated, binary garbage,
+/// NaN/infinite vertex, index out of range, no triangles.
+///
+/// A .glb gives the meshes of every node of every scene (all root nodes when it has no scene),
+/// each under its node's world transform and then `transform`; materials are ignored. Nodes may
+/// instance one mesh many times, so the instanced total is bounded (kMaxGlbElements). Thread-safe.
+TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
+                            const MeshTransform& transform, const std::string& name,
+                            const std::string& path);
+
+/// The most vertices plus triangles a .glb may make once its nodes have instanced their meshes
+/// (about 400 MB of mesh): a file of a few kilobytes must not expand into gigabytes.
+inline constexpr uint64_t kMaxGlbElements = uint64_t(1) << 25;
+
+struct MeshBounds {
+    Vec3 min, max;
+};
+/// The axis-aligned box of the mesh's positions (all of them, referenced or not); min > max for a
+/// mesh without positions.
+MeshBounds boundsOf(const TriangleMesh& mesh);
+
+}  // namespace caustic

@@ -1,0 +1,40 @@
+// The parts of parseMeshBytes (mesh_file.h), one file each: the strict OBJ line pass that runs
+// before tinyobjloader, and the glTF binary reader around tinygltf.
+#pragma once
+
+#include <bit>
+#include <string>
+#include <string_view>
+
+#include "scene/mesh_loader.h"
+
+namespace caustic {
+
+// glTF binary data is little-endian, and read here as stored.
+static_assert(std::endian::native == std::endian::little);
+
+/// Where a mesh file's errors go: InputError at `path`, "<name>: <what>" ("<what>" alone for an
+/// empty name).
+struct MeshErrors {
+    const std::string& name;
+    const std::string& path;
+    [[noreturn]] void fail(const std::string& what) const;
+};
+
+/// Checks OBJ text line by line before tinyobjloader reads it, which reports few errors and reads
+/// a bad number as 0: a `v` line needs 3 or more finite numbers; an `f` line needs 3 or more
+/// corners whose vertex index (a negative one counts back from the vertices so far) names a vertex
+/// defined above it; control bytes are binary data; a last line cut mid-statement is a truncated
+/// file. Lines end at "\n", "\r\n" or a lone "\r", as tinyobjloader reads them. Fails with "line N:
+/// ...", "the file is empty" or "has no faces (no triangles)".
+void checkObjLines(std::string_view bytes, const MeshErrors& errors);
+
+/// Checks a .glb's header and chunks, parses its JSON chunk and refuses any buffer or image URI,
+/// all before tinygltf reads it.
+void checkGlbContainer(std::string_view bytes, const MeshErrors& errors);
+
+/// Reads a glTF 2.0 binary (.glb) from memory; see parseMeshBytes.
+TriangleMesh parseGlb(std::string_view bytes, const MeshTransform& transform,
+                      const MeshErrors& errors);
+
+}  // namespace caustic
