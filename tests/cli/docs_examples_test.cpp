@@ -1,7 +1,7 @@
 // The scene examples of docs/scene-format.md render as written: each ```json block holding a
 // scene (an object with a "camera") goes through `caustic render`, so the documentation cannot
 // drift from the loader. A scene naming an uploaded "asset" needs the render service's asset
-// store (the browser test uploads a mesh and renders it); here it is counted, not rendered.
+// store (tests/server/test_api.py uploads a mesh and renders it); here it is counted, not rendered.
 #include <gtest/gtest.h>
 
 #include <filesystem>
