@@ -22,6 +22,10 @@ struct ServiceLimits {
     double maxMemoryMiB = 4096;     ///< Estimated peak; a job's memory_limit is capped by it.
     int maxQueuedJobs = 100;        ///< Queued (not yet running) jobs.
     int maxEventStreams = 64;       ///< Concurrent Server-Sent Events connections.
+    size_t maxAssetBytes = size_t(256) << 20;  ///< One uploaded mesh file (413 above).
+    int64_t maxAssetTriangles = 20000000;      ///< One uploaded mesh, as loaded (422 above).
+    int64_t maxAssetStorageMiB = 4096;         ///< Every stored asset together (507 above).
+    int maxUploads = 4;                        ///< Uploads being checked at once (429 above).
 };
 
 struct ServerConfig {

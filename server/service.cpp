@@ -100,6 +100,7 @@ RenderService::RenderService(ServerConfig config)
     workers_ = std::make_unique<WorkerPool>(config_, *store_, files_, events_, counters_, owner_);
     jobs_ = std::make_unique<JobService>(config_, *store_, files_, events_,
                                          [this] { workers_->wake(); });
+    assets_ = std::make_unique<AssetService>(config_, *store_);
     http_ = std::make_unique<httplib::Server>();
     // No Nagle delay: a response goes out in more than one write (headers, body), and on a
     // kept-alive connection the second waited for the client's delayed ACK, 40 ms a request.
@@ -135,7 +136,7 @@ void RenderService::serve() {
     http_->set_keep_alive_timeout(5);
     http_->set_read_timeout(10);
     http_->set_write_timeout(10);
-    ApiContext api{config_, *jobs_, counters_, eventStreams_, stopping_};
+    ApiContext api{config_, *jobs_, counters_, eventStreams_, stopping_, *assets_};
     registerRoutes(*http_, api);
     workers_->start();
     http_->listen_after_bind();

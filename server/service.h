@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "jobs/asset_service.h"
 #include "jobs/job_events.h"
 #include "jobs/job_service.h"
 #include "jobs/worker_pool.h"
@@ -44,6 +45,7 @@ private:
     std::string owner_;
     std::unique_ptr<WorkerPool> workers_;
     std::unique_ptr<JobService> jobs_;
+    std::unique_ptr<AssetService> assets_;
     std::unique_ptr<httplib::Server> http_;
     std::atomic<int> eventStreams_{0};
     std::atomic<bool> stopping_{false};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <optional>
 #include <string>
 
 #include "http/problem.h"
@@ -30,6 +31,18 @@ bool authorized(const std::string& auth, const std::string& token) {
            sameToken(auth.substr(prefix.size()), token);
 }
 
+// The body size allowed on this route, or nothing when the declared Content-Length is within it. An
+// uploaded mesh (POST /api/assets) may be far larger than a job: cpp-httplib's one payload limit is
+// the larger of the two (http/routes.cpp), so each route's own holds here, before the body is read.
+std::optional<std::string> oversizeBody(const ServiceLimits& limits, const httplib::Request& req) {
+    const bool upload = req.method == "POST" && req.path == "/api/assets";
+    const size_t limit = upload ? limits.maxAssetBytes : limits.maxRequestBytes;
+    const uint64_t length = req.get_header_value<uint64_t>("Content-Length");
+    if (length <= limit) return std::nullopt;
+    return "the request body has " + std::to_string(length) + " bytes; this server takes at most " +
+           std::to_string(limit) + (upload ? " (--max-asset-bytes)" : " (--max-request-bytes)");
+}
+
 httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
                                               const httplib::Request& req, httplib::Response& res) {
     // Answered here, before cpp-httplib reads the body: the client must close the connection, or
@@ -53,6 +66,8 @@ httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
     // `curl -X POST .../cancel`. `req` is the server's own, not a const object.
     if (!req.has_header("Content-Length"))
         const_cast<httplib::Request&>(req).set_header("Content-Length", "0");
+    if (std::optional<std::string> oversize = oversizeBody(config.limits, req))
+        return refuse(413, *oversize);
 
     if (config.token.empty() || !mutating(req.method) ||
         authorized(req.get_header_value("Authorization"), config.token))

@@ -67,26 +67,6 @@ void submitJob(ApiContext& api, const httplib::Request& req, httplib::Response& 
     }));
 }
 
-// An integer query parameter in [lo, hi], `fallback` when absent; answers 400 and returns nothing
-// when it is not one.
-std::optional<int64_t> integerParam(const httplib::Request& req, httplib::Response& res,
-                                    const char* name, int64_t lo, int64_t hi, int64_t fallback) {
-    if (!req.has_param(name)) return fallback;
-    const std::string text = req.get_param_value(name);
-    size_t used = 0;
-    int64_t v = 0;
-    try {
-        v = std::stoll(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != 0 && used == text.size() && v >= lo && v <= hi) return v;
-    sendProblem(res, 400,
-                std::string(name) + " must be an integer in [" + std::to_string(lo) + ", " +
-                    std::to_string(hi) + "]");
-    return std::nullopt;
-}
-
 void listJobs(ApiContext& api, const httplib::Request& req, httplib::Response& res) {
     std::optional<JobState> state;
     if (req.has_param("state")) {
@@ -134,6 +114,24 @@ void sendImage(ApiContext& api, const httplib::Request& req, httplib::Response& 
 }
 
 }  // namespace
+
+std::optional<int64_t> integerParam(const httplib::Request& req, httplib::Response& res,
+                                    const char* name, int64_t lo, int64_t hi, int64_t fallback) {
+    if (!req.has_param(name)) return fallback;
+    const std::string text = req.get_param_value(name);
+    size_t used = 0;
+    int64_t v = 0;
+    try {
+        v = std::stoll(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != 0 && used == text.size() && v >= lo && v <= hi) return v;
+    sendProblem(res, 400,
+                std::string(name) + " must be an integer in [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "]");
+    return std::nullopt;
+}
 
 void registerJobRoutes(httplib::Server& http, ApiContext& api) {
     using Req = const httplib::Request&;

@@ -37,6 +37,8 @@ const char* statusTitle(int status) {
             return "Internal Server Error";
         case 503:
             return "Service Unavailable";
+        case 507:
+            return "Insufficient Storage";
         default:
             return status < 500 ? "Client Error" : "Server Error";
     }

@@ -1,15 +1,20 @@
 #include "http/routes.h"
 
+#include <algorithm>
+
 #include "http/guards.h"
 
 namespace caustic::server {
 
 void registerRoutes(httplib::Server& http, ApiContext& api) {
-    http.set_payload_max_length(api.config.limits.maxRequestBytes);
+    // cpp-httplib has one limit for every route: the larger; guards hold each route to its own.
+    http.set_payload_max_length(
+        std::max(api.config.limits.maxRequestBytes, api.config.limits.maxAssetBytes));
     installGuards(http, api.config);
     registerHealthRoutes(http, api);
     registerSceneRoutes(http, api);
     registerJobRoutes(http, api);
+    registerAssetRoutes(http, api);
     // Static files of the web page, from its folder only.
     if (!api.config.webDir.empty()) http.set_mount_point("/", api.config.webDir.string());
     // The documentation the API links to (openapi.json's externalDocs), from its folder only.

@@ -7,6 +7,7 @@
 
 #include <httplib.h>
 
+#include "jobs/asset_service.h"
 #include "jobs/job_service.h"
 #include "jobs/worker_pool.h"
 #include "server_config.h"
@@ -19,6 +20,7 @@ struct ApiContext {
     RenderCounters& counters;
     std::atomic<int>& eventStreams;
     const std::atomic<bool>& stopping;
+    AssetService& assets;
 };
 
 /// Registers every route, the guards (http/guards.h), the error bodies and the static files.
@@ -28,10 +30,17 @@ void registerRoutes(httplib::Server& http, ApiContext& api);
 void registerJobRoutes(httplib::Server& http, ApiContext& api);
 /// Follows a job as Server-Sent Events until it ends or is deleted (GET /api/jobs/{id}/events).
 void streamJobEvents(ApiContext& api, const std::string& id, httplib::Response& res);
+/// The uploaded meshes: upload, list, read, delete.
+void registerAssetRoutes(httplib::Server& http, ApiContext& api);
 /// The example scenes, the settings table and the OpenAPI document.
 void registerSceneRoutes(httplib::Server& http, ApiContext& api);
 /// /healthz and /metrics.
 void registerHealthRoutes(httplib::Server& http, ApiContext& api);
+
+/// An integer query parameter in [lo, hi], `fallback` when absent; answers 400 and returns nothing
+/// when it is not one.
+std::optional<int64_t> integerParam(const httplib::Request& req, httplib::Response& res,
+                                    const char* name, int64_t lo, int64_t hi, int64_t fallback);
 
 /// Answers `status` with `body` as application/json.
 inline void sendJson(httplib::Response& res, int status, const Json& body) {

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "jobs/asset_service.h"
 #include "jobs/submission.h"
 #include "jobs/worker_pool.h"
 
@@ -78,7 +79,7 @@ Submission JobService::submit(const Json& body, const std::string& rawBody, cons
                        "the queue is full (" + std::to_string(queued) + " jobs waiting)");
     Job job;
     try {
-        job = prepareJob(body, config_, meshCounts_);
+        job = prepareJob(body, config_, meshCounts_, storedAssets(store_));
     } catch (const InputError& e) {
         return refused(Submission::Outcome::Invalid, e.what(), e.path());
     }
@@ -89,8 +90,13 @@ Submission JobService::submit(const Json& body, const std::string& rawBody, cons
     s.outcome = Submission::Outcome::Accepted;
     s.response = StoredResponse{hash, 202, respond(job), job.id};
     // A concurrent retry with the same key got in first: answer as it was answered.
-    if (std::optional<StoredResponse> raced = store_.insert(job, key, s.response))
-        return answer(*raced, key, hash);
+    try {
+        if (std::optional<StoredResponse> raced = store_.insert(job, key, s.response))
+            return answer(*raced, key, hash);
+    } catch (const AssetMissing& e) {
+        return refused(Submission::Outcome::Invalid,
+                       "the asset " + e.id() + " was deleted while the job was admitted", "/scene");
+    }
     wakeWorkers_();
     events_.notify();
     return s;

@@ -66,7 +66,8 @@ Job prepareJob(const Json& body, const ServerConfig& config) {
     return prepareJob(body, config, uncached);
 }
 
-Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& meshCounts) {
+Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& meshCounts,
+               const MeshAssetResolver& assets) {
     if (!body.is_object()) throw InputError("/", "expected an object, got " + jsonTypeName(body));
     for (auto it = body.begin(); it != body.end(); ++it)
         if (it.key() != "scene" && it.key() != "settings")
@@ -84,6 +85,14 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
     options.maxPixels = limits.maxPixels;
     options.countMeshesOnly = true;
     options.meshCounts = &meshCounts;
+    if (assets)
+        options.resolveMeshAsset = [&assets, &job](const std::string& id, const std::string& path,
+                                                   bool needBytes) {
+            MeshAsset asset = assets(id, path, needBytes);
+            if (std::find(job.assets.begin(), job.assets.end(), id) == job.assets.end())
+                job.assets.push_back(id);
+            return asset;
+        };
     std::unique_ptr<Scene> scene;
     try {
         scene = loadScene(job.scene, options);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "scene/mesh_counts.h"
+#include "scene/scene.h"
 #include "server_config.h"
 #include "store/job.h"
 
@@ -22,7 +23,10 @@ std::vector<std::string> exampleSceneNames(const std::filesystem::path& scenesDi
 /// stored settings are complete (every default filled in). Throws InputError. Scans each mesh
 /// file for its counts; thread-safe.
 Job prepareJob(const Json& body, const ServerConfig& config);
-/// The same, with the counts of mesh files already scanned kept in `meshCounts`.
-Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& meshCounts);
+/// The same, with the counts of mesh files already scanned kept in `meshCounts`, and uploaded
+/// meshes ("asset" shapes) found by `assets` (without it, such a shape is an InputError); the
+/// job's `assets` lists the ids its scene names.
+Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& meshCounts,
+               const MeshAssetResolver& assets = {});
 
 }  // namespace caustic::server

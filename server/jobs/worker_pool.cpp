@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "jobs/asset_service.h"
 #include "jobs/pass_recorder.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -105,6 +106,7 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
         // The scene, settings and session are made once per attempt.
         SceneOptions options;
         options.assetsDir = config_.assetsDir;
+        options.resolveMeshAsset = storedAssets(store_);
         std::unique_ptr<Scene> scene = loadScene(job.scene, options);
         settings = parseSettings(job.settings);
         // The memory check's pilot stops at a cancel and at the time limit, as passes do.

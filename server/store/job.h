@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -28,7 +29,8 @@ struct Job {
     JobState state = JobState::Queued;
     Json scene;     ///< The scene object to render (an example name is resolved at submission).
     Json settings;  ///< The complete, validated settings.
-    std::string sceneName;  ///< The example scene's name when one was asked for by name.
+    std::string sceneName;            ///< The example scene's name when one was asked for by name.
+    std::vector<std::string> assets;  ///< The distinct asset ids its scene names (store/asset.h).
     double createdAt = 0, startedAt = 0, finishedAt = 0;  ///< Unix seconds; 0 for not yet.
 
     // The lease protocol (store/job_store.h).

@@ -14,10 +14,13 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "store/asset.h"
 #include "store/job.h"
 
 namespace caustic::server {
@@ -38,12 +41,31 @@ struct JobPage {
     std::optional<int64_t> next;  ///< Cursor (a seq) for the next page, if there is one.
 };
 
+/// The store's disk (or its size limit) is full: the write changed nothing. A 507 at the API.
+class StoreFull : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// A job names an asset that is no longer stored (deleted after admission): nothing was inserted.
+class AssetMissing : public std::runtime_error {
+public:
+    explicit AssetMissing(std::string id)
+        : std::runtime_error("no asset " + id), id_(std::move(id)) {}
+    const std::string& id() const { return id_; }
+
+private:
+    std::string id_;
+};
+
 class JobStore {
 public:
     virtual ~JobStore() = default;
 
     /// Adds a queued job; assigns job.seq. With `key`, atomically records `response` under it; if
-    /// the key is taken (a concurrent retry), adds nothing and returns the stored response.
+    /// the key is taken (a concurrent retry), adds nothing and returns the stored response. The
+    /// job's `assets` are recorded as used by it (and their last use set to its createdAt) in the
+    /// same transaction; throws AssetMissing, inserting nothing, when one is no longer stored.
     virtual std::optional<StoredResponse> insert(Job& job, const std::string& key = {},
                                                  const StoredResponse& response = {}) = 0;
     virtual std::optional<StoredResponse> storedResponse(const std::string& key) = 0;
@@ -80,8 +102,30 @@ public:
     /// Cancels a queued job at once; asks a running one's holder to stop (it sees it in its next
     /// heartbeat). Returns the job after the change; nothing for an unknown id.
     virtual std::optional<Job> cancel(const std::string& id, double now) = 0;
-    /// Removes a job and its idempotency record. False for an unknown id.
+    /// Removes a job, its idempotency record and its hold on its assets. False for an unknown id.
     virtual bool remove(const std::string& id) = 0;
+
+    // Assets (store/asset.h): uploaded meshes, kept in the store itself so that every worker of a
+    // scale-out reads the same bytes, each written in one transaction.
+
+    /// Stores an asset and its bytes (asset.seq assigned), unless its id is stored already
+    /// (Existing: `asset` becomes the stored one, its last use set to asset.lastUsedAt) or the
+    /// stored bytes would pass `maxTotalBytes` (Full). Throws StoreFull when the disk is full.
+    virtual AssetInsert insertAsset(Asset& asset, const std::string& bytes,
+                                    int64_t maxTotalBytes) = 0;
+    virtual std::optional<Asset> getAsset(const std::string& id) = 0;
+    /// An asset's file, for rendering; null for an unknown id.
+    virtual std::shared_ptr<const std::string> assetBytes(const std::string& id) = 0;
+    /// Assets by upload order, newest first, from cursor `before` (a seq; none for the newest).
+    virtual AssetPage listAssets(int limit, std::optional<int64_t> before) = 0;
+    /// Removes an asset unless a queued or running job uses it (InUse), in one transaction;
+    /// finished jobs that used it lose their hold on it.
+    virtual AssetRemoval removeAsset(const std::string& id) = 0;
+    /// Removes the assets that no job uses whose last use is before `unusedSince` (Unix seconds);
+    /// returns their ids. For a retention policy.
+    virtual std::vector<std::string> removeUnusedAssets(double unusedSince) = 0;
+    /// The bytes of every stored asset together.
+    virtual int64_t assetBytesTotal() = 0;
 };
 
 }  // namespace caustic::server

@@ -2,10 +2,15 @@
 
 #include <sqlite3.h>
 
-#include <cmath>
 #include <stdexcept>
 
+#include "store/sqlite_statement.h"
+
 namespace caustic::server {
+using sqlite::exec;
+using sqlite::Statement;
+using sqlite::Transaction;
+
 namespace {
 
 const char* kSchema = R"sql(
@@ -47,93 +52,6 @@ const char* kJobColumns =
     "seq, id, state, scene, settings, scene_name, created_at, started_at, finished_at, attempt, "
     "lease_owner, lease_expires, stalled_leases, cancel_requested, progress, passes_done, "
     "passes_total, relative_error, eta_seconds, convergence, stats, error";
-
-// A prepared statement, finalized on scope exit. Binds by 1-based position.
-class Statement {
-public:
-    Statement(sqlite3* db, const std::string& sql) : db_(db) {
-        if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK)
-            throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db) + " in " + sql);
-    }
-    ~Statement() { sqlite3_finalize(stmt_); }
-    Statement(const Statement&) = delete;
-    Statement& operator=(const Statement&) = delete;
-
-    Statement& bind(int i, const std::string& v) {
-        check(sqlite3_bind_text(stmt_, i, v.c_str(), int(v.size()), SQLITE_TRANSIENT));
-        return *this;
-    }
-    Statement& bind(int i, const char* v) { return bind(i, std::string(v)); }
-    Statement& bind(int i, double v) {
-        check(std::isnan(v) ? sqlite3_bind_null(stmt_, i) : sqlite3_bind_double(stmt_, i, v));
-        return *this;
-    }
-    Statement& bind(int i, int64_t v) {
-        check(sqlite3_bind_int64(stmt_, i, v));
-        return *this;
-    }
-    Statement& bind(int i, int v) { return bind(i, int64_t(v)); }
-
-    /// Steps once: true while there is a row.
-    bool step() {
-        int rc = sqlite3_step(stmt_);
-        if (rc == SQLITE_ROW) return true;
-        if (rc == SQLITE_DONE) return false;
-        throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db_));
-    }
-    /// Runs to completion; returns the rows changed.
-    int run() {
-        while (step()) {
-        }
-        return sqlite3_changes(db_);
-    }
-
-    std::string text(int col) const {
-        const unsigned char* t = sqlite3_column_text(stmt_, col);
-        return t ? std::string(reinterpret_cast<const char*>(t),
-                               size_t(sqlite3_column_bytes(stmt_, col)))
-                 : std::string();
-    }
-    int64_t integer(int col) const { return sqlite3_column_int64(stmt_, col); }
-    double real(int col) const {
-        return sqlite3_column_type(stmt_, col) == SQLITE_NULL ? std::nan("")
-                                                              : sqlite3_column_double(stmt_, col);
-    }
-
-private:
-    void check(int rc) const {
-        if (rc != SQLITE_OK)
-            throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db_));
-    }
-    sqlite3* db_;
-    sqlite3_stmt* stmt_ = nullptr;
-};
-
-void exec(sqlite3* db, const char* sql) {
-    char* message = nullptr;
-    if (sqlite3_exec(db, sql, nullptr, nullptr, &message) != SQLITE_OK) {
-        std::string m = message ? message : "unknown error";
-        sqlite3_free(message);
-        throw std::runtime_error("sqlite: " + m);
-    }
-}
-
-// BEGIN IMMEDIATE ... COMMIT, rolled back if the scope is left by an exception.
-class Transaction {
-public:
-    explicit Transaction(sqlite3* db) : db_(db) { exec(db_, "BEGIN IMMEDIATE"); }
-    ~Transaction() {
-        if (!done_) sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
-    }
-    void commit() {
-        exec(db_, "COMMIT");
-        done_ = true;
-    }
-
-private:
-    sqlite3* db_;
-    bool done_ = false;
-};
 
 Job readJob(const Statement& s) {
     Job j;
@@ -204,6 +122,7 @@ SqliteJobStore::SqliteJobStore(const std::filesystem::path& file) {
     // the machine.
     exec(db_, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON;");
     exec(db_, kSchema);
+    createAssetSchema();
 }
 
 SqliteJobStore::~SqliteJobStore() {
@@ -233,6 +152,7 @@ std::optional<StoredResponse> SqliteJobStore::insert(Job& job, const std::string
     ins.run();
     job.seq = sqlite3_last_insert_rowid(db_);
     job.state = JobState::Queued;
+    holdAssets(job);
     if (!key.empty()) {
         Statement rec(db_,
                       "INSERT INTO idempotency (key, job_id, request_hash, status, body) VALUES "
@@ -260,7 +180,11 @@ std::optional<Job> SqliteJobStore::getLocked(const std::string& id) {
     Statement s(db_, selectJobs("WHERE id = ?"));
     s.bind(1, id);
     if (!s.step()) return std::nullopt;
-    return readJob(s);
+    Job job = readJob(s);
+    Statement assets(db_, "SELECT asset_id FROM job_assets WHERE job_id = ? ORDER BY asset_id");
+    assets.bind(1, id);
+    while (assets.step()) job.assets.push_back(assets.text(0));
+    return job;
 }
 
 std::optional<Job> SqliteJobStore::get(const std::string& id) {
@@ -278,10 +202,7 @@ JobPage SqliteJobStore::list(std::optional<JobState> state, int limit,
         .bind(3, int64_t(limit) + 1);
     JobPage page;
     while (s.step()) page.jobs.push_back(readJob(s));
-    if (page.jobs.size() > size_t(limit)) {
-        page.jobs.pop_back();
-        page.next = page.jobs.back().seq;
-    }
+    page.next = sqlite::trimPage(page.jobs, limit);
     return page;
 }
 
@@ -440,6 +361,7 @@ bool SqliteJobStore::remove(const std::string& id) {
     std::lock_guard lock(mutex_);
     Transaction tx(db_);
     Statement(db_, "DELETE FROM idempotency WHERE job_id = ?").bind(1, id).run();
+    Statement(db_, "DELETE FROM job_assets WHERE job_id = ?").bind(1, id).run();
     int n = Statement(db_, "DELETE FROM jobs WHERE id = ?").bind(1, id).run();
     tx.commit();
     return n == 1;

@@ -38,8 +38,21 @@ public:
     std::optional<Job> cancel(const std::string& id, double now) override;
     bool remove(const std::string& id) override;
 
+    // Assets: store/sqlite_asset_store.cpp.
+    AssetInsert insertAsset(Asset& asset, const std::string& bytes, int64_t maxTotalBytes) override;
+    std::optional<Asset> getAsset(const std::string& id) override;
+    std::shared_ptr<const std::string> assetBytes(const std::string& id) override;
+    AssetPage listAssets(int limit, std::optional<int64_t> before) override;
+    AssetRemoval removeAsset(const std::string& id) override;
+    std::vector<std::string> removeUnusedAssets(double unusedSince) override;
+    int64_t assetBytesTotal() override;
+
 private:
     std::optional<Job> getLocked(const std::string& id);
+    /// Creates the asset tables (if needed).
+    void createAssetSchema();
+    /// Records that `job` uses its assets; throws AssetMissing. Inside insert()'s transaction.
+    void holdAssets(const Job& job);
 
     sqlite3* db_ = nullptr;
     std::mutex mutex_;

@@ -60,6 +60,7 @@ TITLES = {
     415: "Unsupported Media Type",
     422: "Unprocessable Content",
     429: "Too Many Requests",
+    507: "Insufficient Storage",
 }
 
 

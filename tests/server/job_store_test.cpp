@@ -1,6 +1,7 @@
 // The job store's lease protocol (server/store/job_store.h) on SQLite: claims in submission order,
 // writes fenced by attempt, expired leases requeued, jobs that stall too often failed, cancellation
-// of queued and running jobs, idempotency records, paging.
+// of queued and running jobs, idempotency records, paging; uploaded assets, stored once by id and
+// held by the jobs that use them.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -25,14 +26,30 @@ protected:
         store_.reset();
         fs::remove_all(dir_);
     }
-    Job submit(const std::string& id, double at = 100) {
+    Job submit(const std::string& id, double at = 100, std::vector<std::string> assets = {}) {
         Job j;
         j.id = id;
         j.scene = Json{{"camera", {{"width", 4}}}};
         j.settings = Json{{"spp", 4}};
         j.createdAt = at;
+        j.assets = std::move(assets);
         store_->insert(j);
         return j;
+    }
+    // Stores an asset of `bytes` under `id` (any text: the store does not hash), used at `at`.
+    AssetInsert upload(const std::string& id, const std::string& bytes, double at = 100,
+                       int64_t maxTotal = int64_t(1) << 30, const std::string& name = "") {
+        Asset a;
+        a.id = id;
+        a.format = "obj";
+        a.name = name;
+        a.triangles = 2;
+        a.vertices = 4;
+        a.boundsMin = {-1, -2, -3};
+        a.boundsMax = {1, 2, 3};
+        a.createdAt = at;
+        a.lastUsedAt = at;
+        return store_->insertAsset(a, bytes, maxTotal);
     }
 
     fs::path dir_;
@@ -238,6 +255,109 @@ TEST_F(JobStoreTest, SurvivesReopening) {
     EXPECT_EQ(back.passesDone, 1);
     EXPECT_DOUBLE_EQ(back.relativeError, 0.3);
     EXPECT_EQ(back.convergence, (Json::array({Json{{"pass", 1}}})));
+}
+
+TEST_F(JobStoreTest, StoresAnAssetOnceByIdWithItsBytes) {
+    // Bytes that are not text: a NUL, invalid UTF-8.
+    const std::string bytes("v 0 0 0\0\xff\xfe", 10);
+    EXPECT_EQ(upload("x", bytes, 100, int64_t(1) << 30, "first.obj"), AssetInsert::Inserted);
+    std::optional<Asset> a = store_->getAsset("x");
+    ASSERT_TRUE(a);
+    EXPECT_GT(a->seq, 0);
+    EXPECT_EQ(a->format, "obj");
+    EXPECT_EQ(a->name, "first.obj");
+    EXPECT_EQ(a->bytes, 10);
+    EXPECT_EQ(a->triangles, 2);
+    EXPECT_EQ(a->vertices, 4);
+    EXPECT_EQ(a->boundsMin, (std::array<double, 3>{-1, -2, -3}));
+    EXPECT_EQ(a->boundsMax, (std::array<double, 3>{1, 2, 3}));
+    EXPECT_DOUBLE_EQ(a->createdAt, 100);
+    EXPECT_EQ(*store_->assetBytes("x"), bytes);
+    EXPECT_EQ(store_->assetBytesTotal(), 10);
+
+    // The same id again: the stored asset, as it was, only its last use moved.
+    Asset again;
+    again.id = "x";
+    again.name = "second.obj";
+    again.lastUsedAt = 200;
+    EXPECT_EQ(store_->insertAsset(again, bytes, int64_t(1) << 30), AssetInsert::Existing);
+    EXPECT_EQ(again.name, "first.obj");
+    EXPECT_EQ(again.seq, a->seq);
+    EXPECT_DOUBLE_EQ(again.lastUsedAt, 200);
+    EXPECT_EQ(store_->assetBytesTotal(), 10);
+    EXPECT_FALSE(store_->getAsset("y"));
+    EXPECT_EQ(store_->assetBytes("y"), nullptr);
+}
+
+TEST_F(JobStoreTest, RefusesAnAssetOverTheStorageLimit) {
+    EXPECT_EQ(upload("a", std::string(60, 'a'), 100, 100), AssetInsert::Inserted);
+    EXPECT_EQ(upload("b", std::string(41, 'b'), 100, 100), AssetInsert::Full);
+    EXPECT_FALSE(store_->getAsset("b"));
+    EXPECT_EQ(upload("c", std::string(40, 'c'), 100, 100), AssetInsert::Inserted);
+    EXPECT_EQ(store_->assetBytesTotal(), 100);
+    // A stored asset is found whatever the storage holds.
+    EXPECT_EQ(upload("a", std::string(60, 'a'), 100, 100), AssetInsert::Existing);
+}
+
+TEST_F(JobStoreTest, QueuedAndRunningJobsHoldTheirAssets) {
+    upload("m", "mesh");
+    upload("n", "other mesh");
+    submit("job", 150, {"m", "n"});
+    EXPECT_EQ(store_->get("job")->assets, (std::vector<std::string>{"m", "n"}));
+    EXPECT_DOUBLE_EQ(store_->getAsset("m")->lastUsedAt, 150);
+    EXPECT_EQ(store_->removeAsset("m"), AssetRemoval::InUse);
+    Job running = *store_->claim("w", 1000, kLease, 3, 100);
+    EXPECT_EQ(store_->removeAsset("m"), AssetRemoval::InUse);
+    ASSERT_TRUE(store_->finish("job", running.attempt, JobState::Succeeded, nullptr, "", 1001));
+    // A finished job no longer holds them.
+    EXPECT_EQ(store_->removeAsset("m"), AssetRemoval::Removed);
+    EXPECT_EQ(store_->removeAsset("m"), AssetRemoval::Unknown);
+    EXPECT_FALSE(store_->getAsset("m"));
+    EXPECT_EQ(store_->get("job")->assets, (std::vector<std::string>{"n"}));
+    EXPECT_TRUE(store_->remove("job"));
+    EXPECT_EQ(store_->removeAsset("n"), AssetRemoval::Removed);
+}
+
+TEST_F(JobStoreTest, AJobNamingAMissingAssetIsNotInserted) {
+    upload("m", "mesh");
+    Job j;
+    j.id = "job";
+    j.scene = Json::object();
+    j.settings = Json::object();
+    j.assets = {"m", "gone"};
+    EXPECT_THROW(store_->insert(j), AssetMissing);
+    EXPECT_FALSE(store_->get("job"));
+    EXPECT_EQ(store_->removeAsset("m"), AssetRemoval::Removed);
+}
+
+TEST_F(JobStoreTest, RemovesAssetsUnusedSinceACutOff) {
+    upload("old", "1", 100);
+    upload("recent", "22", 500);
+    upload("held", "333", 100);
+    submit("job", 100, {"held"});
+    EXPECT_EQ(store_->removeUnusedAssets(300), (std::vector<std::string>{"old"}));
+    EXPECT_TRUE(store_->getAsset("recent"));
+    EXPECT_TRUE(store_->getAsset("held"));
+    // Deleting the job lets go of its asset.
+    EXPECT_TRUE(store_->remove("job"));
+    EXPECT_EQ(store_->removeUnusedAssets(300), (std::vector<std::string>{"held"}));
+    EXPECT_EQ(store_->assetBytesTotal(), 2);
+}
+
+TEST_F(JobStoreTest, ListsAssetsNewestFirstInPagesAndSurvivesReopening) {
+    for (int i = 0; i < 5; ++i) upload("a" + std::to_string(i), std::string(size_t(i + 1), 'x'));
+    AssetPage first = store_->listAssets(2, std::nullopt);
+    ASSERT_EQ(first.assets.size(), 2u);
+    EXPECT_EQ(first.assets[0].id, "a4");
+    EXPECT_EQ(first.assets[1].id, "a3");
+    ASSERT_TRUE(first.next);
+    AssetPage rest = store_->listAssets(10, first.next);
+    ASSERT_EQ(rest.assets.size(), 3u);
+    EXPECT_EQ(rest.assets[2].id, "a0");
+    EXPECT_FALSE(rest.next);
+    store_ = std::make_unique<SqliteJobStore>(dir_ / "jobs.sqlite3");
+    EXPECT_EQ(*store_->assetBytes("a2"), "xxx");
+    EXPECT_EQ(store_->listAssets(10, std::nullopt).assets.size(), 5u);
 }
 
 }  // namespace

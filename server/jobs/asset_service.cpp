@@ -1,0 +1,194 @@
+#include "jobs/asset_service.h"
+
+#include <openssl/evp.h>
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "jobs/clock.h"
+#include "scene/mesh_file.h"
+
+namespace caustic::server {
+namespace {
+
+constexpr size_t kMaxNameCharacters = 200;
+
+Upload refused(Upload::Outcome outcome, std::string detail) {
+    Upload u;
+    u.outcome = outcome;
+    u.detail = std::move(detail);
+    return u;
+}
+
+// Holds one of the --max-uploads slots for as long as it lives.
+class UploadSlot {
+public:
+    UploadSlot(std::atomic<int>& inFlight, int max) : inFlight_(inFlight) {
+        held_ = inFlight_.fetch_add(1) < max;
+    }
+    ~UploadSlot() { inFlight_.fetch_sub(1); }
+    UploadSlot(const UploadSlot&) = delete;
+    UploadSlot& operator=(const UploadSlot&) = delete;
+    bool held() const { return held_; }
+
+private:
+    std::atomic<int>& inFlight_;
+    bool held_ = false;
+};
+
+// Characters of UTF-8 text: every byte but the continuation bytes (10xxxxxx) starts one.
+size_t characters(const std::string& s) {
+    size_t n = 0;
+    for (unsigned char c : s) n += (c & 0xc0) != 0x80;
+    return n;
+}
+
+bool isUtf8(const std::string& s) {
+    try {
+        (void)Json(s).dump();
+        return true;
+    } catch (const Json::exception&) {
+        return false;
+    }
+}
+
+}  // namespace
+
+bool isAssetId(std::string_view id) {
+    if (id.size() != 64) return false;
+    for (char c : id)
+        if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
+    return true;
+}
+
+std::string sha256Hex(std::string_view bytes) {
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int length = 0;
+    if (EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr) != 1)
+        throw std::runtime_error("OpenSSL could not compute a SHA-256");
+    std::string hex;
+    char byte[3];
+    for (unsigned int i = 0; i < length; ++i) {
+        std::snprintf(byte, sizeof byte, "%02x", digest[i]);
+        hex += byte;
+    }
+    return hex;
+}
+
+AssetService::AssetService(const ServerConfig& config, JobStore& store)
+    : config_(config), store_(store) {}
+
+std::optional<Upload> AssetService::refuseRequest(std::string_view mediaType,
+                                                  const std::string& name,
+                                                  const std::string& bytes) const {
+    using Outcome = Upload::Outcome;
+    if (!meshFormatOfMediaType(mediaType))
+        return refused(Outcome::UnsupportedType,
+                       (mediaType.empty() ? std::string("no Content-Type")
+                                          : "Content-Type \"" + std::string(mediaType) + "\"") +
+                           ": send a mesh as model/obj or model/gltf-binary");
+    if (!isUtf8(name)) return refused(Outcome::BadName, "name is not UTF-8");
+    if (characters(name) > kMaxNameCharacters)
+        return refused(Outcome::BadName,
+                       "name is over " + std::to_string(kMaxNameCharacters) + " characters");
+    if (bytes.size() > config_.limits.maxAssetBytes)
+        return refused(Outcome::TooLarge, "the file has " + std::to_string(bytes.size()) +
+                                              " bytes; this server takes at most " +
+                                              std::to_string(config_.limits.maxAssetBytes) +
+                                              " per asset (--max-asset-bytes)");
+    return std::nullopt;
+}
+
+std::optional<Upload> AssetService::load(MeshFormat format, const std::string& name,
+                                         const std::string& bytes, Asset& asset) const {
+    using Outcome = Upload::Outcome;
+    // Load it with the renderer's own loader: what passes here renders.
+    TriangleMesh mesh;
+    try {
+        mesh =
+            parseMeshBytes(bytes, format, MeshTransform{}, name.empty() ? "the upload" : name, "");
+    } catch (const InputError& e) {
+        return refused(Outcome::Invalid, e.message());
+    }
+    const int64_t maxTriangles = config_.limits.maxAssetTriangles;
+    if (int64_t(mesh.triangles.size()) > maxTriangles)
+        return refused(Outcome::TooManyTriangles,
+                       "the mesh has " + std::to_string(mesh.triangles.size()) +
+                           " triangles; this server takes at most " + std::to_string(maxTriangles) +
+                           " per asset (--max-asset-triangles)");
+    const MeshBounds bounds = boundsOf(mesh);
+    asset.format = nameOf(format);
+    asset.name = name;
+    asset.bytes = int64_t(bytes.size());
+    asset.triangles = int64_t(mesh.triangles.size());
+    asset.vertices = int64_t(mesh.positions.size());
+    asset.boundsMin = {bounds.min.x, bounds.min.y, bounds.min.z};
+    asset.boundsMax = {bounds.max.x, bounds.max.y, bounds.max.z};
+    return std::nullopt;
+}
+
+Upload AssetService::upload(std::string_view mediaType, const std::string& name,
+                            const std::string& bytes) {
+    using Outcome = Upload::Outcome;
+    UploadSlot slot(inFlight_, config_.limits.maxUploads);
+    if (!slot.held())
+        return refused(Outcome::Busy, std::to_string(config_.limits.maxUploads) +
+                                          " uploads are being checked already (--max-uploads); "
+                                          "retry later");
+    if (std::optional<Upload> refusal = refuseRequest(mediaType, name, bytes)) return *refusal;
+
+    // The same bytes were loaded when they were first stored: take that asset as it is.
+    const double now = unixNow();
+    Asset asset;
+    asset.id = sha256Hex(bytes);
+    if (std::optional<Asset> stored = store_.getAsset(asset.id)) {
+        asset = *stored;
+    } else {
+        if (std::optional<Upload> refusal =
+                load(*meshFormatOfMediaType(mediaType), name, bytes, asset))
+            return *refusal;
+        asset.createdAt = now;
+    }
+    asset.lastUsedAt = now;
+
+    // Store it within the storage limit.
+    const int64_t maxStorage = config_.limits.maxAssetStorageMiB << 20;
+    AssetInsert stored;
+    try {
+        stored = store_.insertAsset(asset, bytes, maxStorage);
+    } catch (const StoreFull& e) {
+        return refused(Outcome::StorageFull, std::string("the disk is full: ") + e.what());
+    }
+    if (stored == AssetInsert::Full)
+        return refused(Outcome::StorageFull,
+                       "the asset storage is full: " + std::to_string(store_.assetBytesTotal()) +
+                           " of " + std::to_string(maxStorage) +
+                           " bytes are used and this file has " + std::to_string(bytes.size()) +
+                           " (delete assets, or raise --max-asset-storage-mib)");
+    Upload u;
+    u.outcome = stored == AssetInsert::Inserted ? Outcome::Created : Outcome::Existing;
+    u.asset = asset;
+    return u;
+}
+
+MeshAssetResolver storedAssets(JobStore& store) {
+    return [&store](const std::string& id, const std::string& path, bool needBytes) {
+        auto unknown = [&] {
+            return InputError(path, "no asset " + id + "; upload the file with POST /api/assets");
+        };
+        std::optional<Asset> stored = store.getAsset(id);
+        if (!stored) throw unknown();
+        MeshAsset asset;
+        asset.format = meshFormatNamed(stored->format).value_or(MeshFormat::Obj);
+        asset.counts.vertices = uint64_t(stored->vertices);
+        asset.counts.triangles = uint64_t(stored->triangles);
+        if (needBytes) {
+            asset.bytes = store.assetBytes(id);
+            if (!asset.bytes) throw unknown();
+        }
+        return asset;
+    };
+}
+
+}  // namespace caustic::server

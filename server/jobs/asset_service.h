@@ -1,0 +1,73 @@
+// The asset service (DESIGN.md, "Service", assets): the policy of POST/GET/DELETE /api/assets over
+// the store. An upload is validated with the renderer's real loader (scene/mesh_file.h), named by
+// the SHA-256 of its bytes (the same bytes twice are one asset), and held to the service's limits:
+// bytes and triangles per asset, total storage, uploads at once. Route handlers (server/http/)
+// only translate. Thread-safe: request threads call it at once.
+#pragma once
+
+#include <atomic>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "scene/mesh_file.h"
+#include "scene/scene.h"
+#include "server_config.h"
+#include "store/job_store.h"
+
+namespace caustic::server {
+
+/// What an upload came to.
+struct Upload {
+    enum class Outcome {
+        Created,           ///< Stored now: `asset`.
+        Existing,          ///< The same bytes were stored before: `asset`, as stored then.
+        UnsupportedType,   ///< Not model/obj or model/gltf-binary.
+        BadName,           ///< The display name is too long or not UTF-8.
+        TooLarge,          ///< Over --max-asset-bytes.
+        Invalid,           ///< The loader refused the file: `detail` names the line or object.
+        TooManyTriangles,  ///< Over --max-asset-triangles.
+        StorageFull,       ///< Over --max-asset-storage-mib, or the disk is full.
+        Busy,              ///< --max-uploads are being validated already.
+    };
+    Outcome outcome = Outcome::Invalid;
+    Asset asset;
+    std::string detail;  ///< Why it was refused.
+};
+
+class AssetService {
+public:
+    AssetService(const ServerConfig& config, JobStore& store);
+
+    /// Validates and stores the file `bytes` sent as `mediaType` under the display `name`.
+    Upload upload(std::string_view mediaType, const std::string& name, const std::string& bytes);
+
+    std::optional<Asset> get(const std::string& id) { return store_.getAsset(id); }
+    AssetPage list(int limit, int64_t before) { return store_.listAssets(limit, before); }
+    /// Removes an asset unless a queued or running job uses it.
+    AssetRemoval remove(const std::string& id) { return store_.removeAsset(id); }
+
+private:
+    /// The refusal of a request whose type, name or size is wrong; nothing when they are right.
+    std::optional<Upload> refuseRequest(std::string_view mediaType, const std::string& name,
+                                        const std::string& bytes) const;
+    /// Loads the file and fills `asset` from the mesh; the refusal when it cannot be loaded or
+    /// has too many triangles.
+    std::optional<Upload> load(MeshFormat format, const std::string& name, const std::string& bytes,
+                               Asset& asset) const;
+
+    const ServerConfig& config_;
+    JobStore& store_;
+    std::atomic<int> inFlight_{0};
+};
+
+/// Whether `id` has the form of an asset id: 64 lowercase hex digits.
+bool isAssetId(std::string_view id);
+/// SHA-256 of `bytes` as 64 lowercase hex digits (OpenSSL's EVP interface).
+std::string sha256Hex(std::string_view bytes);
+
+/// Resolves the "asset" shapes of a scene through `store` (SceneOptions::resolveMeshAsset): an
+/// unknown id is an InputError at the shape's "asset" path. Reads the bytes only when asked.
+MeshAssetResolver storedAssets(JobStore& store);
+
+}  // namespace caustic::server
