@@ -51,7 +51,8 @@ export function meshMediaType(name) {
 function upload(file, onProgress) {
   return new Promise((resolve, reject) => {
     const xhr = new XMLHttpRequest();
-    xhr.open('POST', `/api/assets?name=${encodeURIComponent(file.name.slice(0, 200))}`);
+    // The service refuses a name over 200 characters (code points: Array.from splits no pair).
+    xhr.open('POST', `/api/assets?name=${encodeURIComponent(Array.from(file.name).slice(0, 200).join(''))}`);
     xhr.setRequestHeader('Content-Type', meshMediaType(file.name));
     if (token) xhr.setRequestHeader('Authorization', `Bearer ${token}`);
     xhr.upload.addEventListener('progress', e => { if (e.lengthComputable) onProgress(e.loaded / e.total); });
