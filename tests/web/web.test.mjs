@@ -419,12 +419,43 @@ test('assets: drop a mesh, see its counts, insert it, render it; delete refused 
   assert.ok(done.stats.memory.meshes > 0, 'the render loaded the mesh');
   await shot(page, 'asset-rendered');
 
-  // A second mesh, from the file picker; then Delete on the teapot while a long job uses it: 409,
-  // its detail under the asset, which stays listed.
+  // Refused files: one that is no mesh (said here, nothing sent), one the server finds broken (its
+  // problem detail, naming the line).
+  await page.setInputFiles('#asset-file', {name: 'notes.txt', mimeType: 'text/plain', buffer: Buffer.from('hi')});
+  assert.match(await page.textContent('#asset-error'), /notes\.txt: not a mesh this service takes/);
+  const [refused] = await Promise.all([
+    page.waitForResponse(r => r.url().startsWith(`${BASE}/api/assets`) && r.request().method() === 'POST'),
+    page.setInputFiles('#asset-file', {name: 'broken.obj', mimeType: '', buffer: Buffer.from('v 0 0 0\nv 1 0 0\nf 1 2 7\n')}),
+  ]);
+  assert.equal(refused.status(), 422);
+  await page.waitForFunction(() => /^broken\.obj: .*line 3/.test(document.querySelector('#asset-error').textContent));
+  assert.ok(await page.isHidden('#asset-progress'));
+
+  // A second mesh, from the file picker, sent at 256 KiB/s: the progress bar moves. Then Delete on
+  // the teapot while a long job uses it: 409, its detail under the asset, which stays listed.
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send('Network.emulateNetworkConditions',
+    {offline: false, latency: 0, downloadThroughput: -1, uploadThroughput: 256 * 1024});
+  await page.evaluate(() => {
+    const bar = document.querySelector('#asset-progress');
+    window.progressSeen = [];
+    const tick = () => {
+      if (!bar.hidden) window.progressSeen.push(bar.value);
+      if (!window.progressDone) setTimeout(tick, 20);
+    };
+    tick();
+  });
   const [second] = await Promise.all([
     page.waitForResponse(r => r.url().startsWith(`${BASE}/api/assets`) && r.request().method() === 'POST'),
     page.setInputFiles('#asset-file', path.join(MESHES, 'spot.obj')),
   ]);
+  await cdp.send('Network.emulateNetworkConditions',
+    {offline: false, latency: 0, downloadThroughput: -1, uploadThroughput: -1});
+  const seen = await page.evaluate(() => { window.progressDone = true; return window.progressSeen; });
+  const partial = [...new Set(seen.filter(v => v > 0 && v < 1))];
+  assert.ok(partial.length >= 2, `upload progress seen at ${partial.length} values between 0 and 1`);
+  for (let i = 1; i < seen.length; i++) assert.ok(seen[i] >= seen[i - 1], 'upload progress never goes back');
+  console.log(`upload progress values seen: ${partial.length}`);
   assert.equal(second.status(), 201);
   // (The browser keeps no big response bodies for long: the id comes from the list.)
   await page.waitForSelector('.asset .asset-name:text-is("spot.obj")');
@@ -446,9 +477,9 @@ test('assets: drop a mesh, see its counts, insert it, render it; delete refused 
   await page.click(`.asset[data-id="${spot.id}"] button:text("Delete")`);
   await page.waitForSelector(`.asset[data-id="${spot.id}"]`, {state: 'detached'});
   assert.equal((await api(`/api/assets/${spot.id}`)).status, 404);
-  // The browser logs the refused delete; nothing else.
-  const errors = await close([/status of 409/]);
-  assert.equal(errors.length, 1, errors.join('\n'));
+  // The browser logs the refused upload and the refused delete; nothing else.
+  const errors = await close([/status of 422/, /status of 409/]);
+  assert.equal(errors.length, 2, errors.join('\n'));
 });
 
 test('layout at 1280x800 and 400x800: no horizontal overflow; columns, then stacked', async () => {
