@@ -43,14 +43,15 @@ void addLimits(CLI::App& limits, server::ServiceLimits& l) {
                    "Jobs waiting to run (429 above)");
     cli::addNumber(limits, "--max-event-streams", l.maxEventStreams, 1, 4096,
                    "Concurrent Server-Sent Events connections");
-    cli::addNumber(limits, "--max-asset-bytes", l.maxAssetBytes, 1024, 4e9,
+    // At most SQLite's default SQLITE_MAX_LENGTH, the largest BLOB the store can hold.
+    cli::addNumber(limits, "--max-asset-bytes", l.maxAssetBytes, 1024, 1e9,
                    "Largest uploaded mesh file (413 above)");
     cli::addNumber(limits, "--max-asset-triangles", l.maxAssetTriangles, 1, 1e9,
                    "Triangles of one uploaded mesh (422 above)");
     cli::addNumber(limits, "--max-asset-storage-mib", l.maxAssetStorageMiB, 1, 1e9,
                    "Every stored asset together, MiB (507 above)");
     cli::addNumber(limits, "--max-uploads,--max-uploads-in-flight", l.maxUploads, 1, 1024,
-                   "Uploads being checked at once (429 above)");
+                   "Uploads being read and checked at once (429 above)");
 }
 
 void addWorkOptions(CLI::App& serve, ServerConfig& c) {

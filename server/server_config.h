@@ -25,7 +25,7 @@ struct ServiceLimits {
     size_t maxAssetBytes = size_t(256) << 20;  ///< One uploaded mesh file (413 above).
     int64_t maxAssetTriangles = 20000000;      ///< One uploaded mesh, as loaded (422 above).
     int64_t maxAssetStorageMiB = 4096;         ///< Every stored asset together (507 above).
-    int maxUploads = 4;                        ///< Uploads being checked at once (429 above).
+    int maxUploads = 4;                        ///< Uploads read and checked at once (429 above).
 };
 
 struct ServerConfig {

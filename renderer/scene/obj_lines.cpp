@@ -145,14 +145,16 @@ void checkObjLines(std::string_view bytes, const MeshErrors& errors) {
     for (size_t start = 0; start < bytes.size();) {
         size_t end = std::min(bytes.find_first_of("\r\n", start), bytes.size());
         std::string_view line = bytes.substr(start, end - start);
-        std::string at = "line " + std::to_string(++number) + ": ";
-        if (auto c = firstBinaryByte(line)) errors.fail(at + "binary data (byte " + hex(*c) + ")");
-        if (std::string e = checker.check(line); !e.empty()) {
+        ++number;
+        auto fail = [&](const std::string& what) {
+            errors.fail("line " + std::to_string(number) + ": " + what);
+        };
+        if (auto c = firstBinaryByte(line)) fail("binary data (byte " + hex(*c) + ")");
+        if (std::string e = checker.check(line); !e.empty())
             // A statement is complete only at its end of line.
-            if (end == bytes.size())
-                at += "the file ends in the middle of a statement (truncated): ";
-            errors.fail(at + e);
-        }
+            fail(end == bytes.size()
+                     ? "the file ends in the middle of a statement (truncated): " + e
+                     : e);
         start = end + (bytes.compare(end, 2, "\r\n") == 0 ? 2 : 1);
     }
     if (checker.faces() == 0) errors.fail("has no faces (no triangles)");

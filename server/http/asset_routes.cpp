@@ -1,4 +1,6 @@
 // The assets resource (uploaded meshes): POST /api/assets, GET /api/assets[/{id}], DELETE.
+#include <algorithm>
+#include <memory>
 #include <string>
 
 #include "http/problem.h"
@@ -40,6 +42,37 @@ void sendUpload(httplib::Response& res, const Upload& u) {
             res.set_header("Retry-After", "5");
             return sendProblem(res, 429, u.detail);
     }
+}
+
+// Reads and drops the body of a refused upload, so that the connection can carry the next request
+// (its size was held to --max-asset-bytes from the Content-Length before this).
+void dropBody(const httplib::Request& req, const httplib::ContentReader& read) {
+    auto drop = [](const char*, size_t) { return true; };
+    if (req.is_multipart_form_data())
+        read([](const httplib::MultipartFormData&) { return true; }, drop);
+    else
+        read(drop);
+}
+
+// Refusals that need no body come before it is read: an upload holds its --max-uploads place
+// from here, while its body arrives, until it is stored.
+void uploadAsset(ApiContext& api, const httplib::Request& req, httplib::Response& res,
+                 const httplib::ContentReader& read) {
+    const std::string mediaType = req.get_header_value("Content-Type");
+    const std::string name = req.get_param_value("name");
+    std::unique_ptr<UploadSlot> slot;
+    if (std::optional<Upload> refusal = api.assets.admit(mediaType, name, slot)) {
+        dropBody(req, read);
+        return sendUpload(res, *refusal);
+    }
+    std::string body;
+    body.reserve(std::min(req.get_header_value<uint64_t>("Content-Length"),
+                          uint64_t(api.config.limits.maxAssetBytes)));
+    read([&body](const char* data, size_t n) {
+        body.append(data, n);
+        return true;
+    });
+    sendUpload(res, api.assets.upload(mediaType, name, body));
 }
 
 void listAssets(ApiContext& api, const httplib::Request& req, httplib::Response& res) {
@@ -88,9 +121,8 @@ void registerAssetRoutes(httplib::Server& http, ApiContext& api) {
     using Req = const httplib::Request&;
     using Res = httplib::Response&;
     const std::string asset = "/api/assets/([^/]+)";
-    http.Post("/api/assets", [&api](Req req, Res res) {
-        sendUpload(res, api.assets.upload(req.get_header_value("Content-Type"),
-                                          req.get_param_value("name"), req.body));
+    http.Post("/api/assets", [&api](Req req, Res res, const httplib::ContentReader& read) {
+        uploadAsset(api, req, res, read);
     });
     http.Get("/api/assets", [&api](Req req, Res res) { listAssets(api, req, res); });
     http.Get(asset, [&api](Req req, Res res) {

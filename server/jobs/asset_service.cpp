@@ -21,22 +21,6 @@ Upload refused(Upload::Outcome outcome, std::string detail) {
     return u;
 }
 
-// Holds one of the --max-uploads slots for as long as it lives.
-class UploadSlot {
-public:
-    UploadSlot(std::atomic<int>& inFlight, int max) : inFlight_(inFlight) {
-        held_ = inFlight_.fetch_add(1) < max;
-    }
-    ~UploadSlot() { inFlight_.fetch_sub(1); }
-    UploadSlot(const UploadSlot&) = delete;
-    UploadSlot& operator=(const UploadSlot&) = delete;
-    bool held() const { return held_; }
-
-private:
-    std::atomic<int>& inFlight_;
-    bool held_ = false;
-};
-
 // Characters of UTF-8 text: every byte but the continuation bytes (10xxxxxx) starts one.
 size_t characters(const std::string& s) {
     size_t n = 0;
@@ -80,8 +64,7 @@ AssetService::AssetService(const ServerConfig& config, JobStore& store)
     : config_(config), store_(store) {}
 
 std::optional<Upload> AssetService::refuseRequest(std::string_view mediaType,
-                                                  const std::string& name,
-                                                  const std::string& bytes) const {
+                                                  const std::string& name) const {
     using Outcome = Upload::Outcome;
     if (!meshFormatOfMediaType(mediaType))
         return refused(Outcome::UnsupportedType,
@@ -92,11 +75,21 @@ std::optional<Upload> AssetService::refuseRequest(std::string_view mediaType,
     if (characters(name) > kMaxNameCharacters)
         return refused(Outcome::BadName,
                        "name is over " + std::to_string(kMaxNameCharacters) + " characters");
-    if (bytes.size() > config_.limits.maxAssetBytes)
-        return refused(Outcome::TooLarge, "the file has " + std::to_string(bytes.size()) +
-                                              " bytes; this server takes at most " +
-                                              std::to_string(config_.limits.maxAssetBytes) +
-                                              " per asset (--max-asset-bytes)");
+    return std::nullopt;
+}
+
+std::optional<Upload> AssetService::admit(std::string_view mediaType, const std::string& name,
+                                          std::unique_ptr<UploadSlot>& slot) {
+    if (std::optional<Upload> refusal = refuseRequest(mediaType, name)) return refusal;
+    const int max = config_.limits.maxUploads;
+    // Counted before the check, so that two uploads at once cannot both take the last place.
+    if (inFlight_.fetch_add(1) >= max) {
+        inFlight_.fetch_sub(1);
+        return refused(
+            Upload::Outcome::Busy,
+            std::to_string(max) + " uploads are in progress already (--max-uploads); retry later");
+    }
+    slot = std::make_unique<UploadSlot>(inFlight_);
     return std::nullopt;
 }
 
@@ -131,12 +124,12 @@ std::optional<Upload> AssetService::load(MeshFormat format, const std::string& n
 Upload AssetService::upload(std::string_view mediaType, const std::string& name,
                             const std::string& bytes) {
     using Outcome = Upload::Outcome;
-    UploadSlot slot(inFlight_, config_.limits.maxUploads);
-    if (!slot.held())
-        return refused(Outcome::Busy, std::to_string(config_.limits.maxUploads) +
-                                          " uploads are being checked already (--max-uploads); "
-                                          "retry later");
-    if (std::optional<Upload> refusal = refuseRequest(mediaType, name, bytes)) return *refusal;
+    if (std::optional<Upload> refusal = refuseRequest(mediaType, name)) return *refusal;
+    if (bytes.size() > config_.limits.maxAssetBytes)
+        return refused(Outcome::TooLarge, "the file has " + std::to_string(bytes.size()) +
+                                              " bytes; this server takes at most " +
+                                              std::to_string(config_.limits.maxAssetBytes) +
+                                              " per asset (--max-asset-bytes)");
 
     // The same bytes were loaded when they were first stored: take that asset as it is.
     const double now = unixNow();

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -35,11 +36,28 @@ struct Upload {
     std::string detail;  ///< Why it was refused.
 };
 
+/// One of the --max-uploads places, held from before an upload's body is read until it is stored.
+class UploadSlot {
+public:
+    explicit UploadSlot(std::atomic<int>& inFlight) : inFlight_(inFlight) {}
+    ~UploadSlot() { inFlight_.fetch_sub(1); }
+    UploadSlot(const UploadSlot&) = delete;
+    UploadSlot& operator=(const UploadSlot&) = delete;
+
+private:
+    std::atomic<int>& inFlight_;
+};
+
 class AssetService {
 public:
     AssetService(const ServerConfig& config, JobStore& store);
 
-    /// Validates and stores the file `bytes` sent as `mediaType` under the display `name`.
+    /// Before the body of an upload is read: refuses a wrong media type or name (UnsupportedType,
+    /// BadName) or an upload over --max-uploads in flight (Busy); else holds a place in `slot`
+    /// and returns nothing.
+    std::optional<Upload> admit(std::string_view mediaType, const std::string& name,
+                                std::unique_ptr<UploadSlot>& slot);
+    /// Validates and stores the file `bytes` of an admitted upload.
     Upload upload(std::string_view mediaType, const std::string& name, const std::string& bytes);
 
     std::optional<Asset> get(const std::string& id) { return store_.getAsset(id); }
@@ -48,9 +66,8 @@ public:
     AssetRemoval remove(const std::string& id) { return store_.removeAsset(id); }
 
 private:
-    /// The refusal of a request whose type, name or size is wrong; nothing when they are right.
-    std::optional<Upload> refuseRequest(std::string_view mediaType, const std::string& name,
-                                        const std::string& bytes) const;
+    /// The refusal of a request whose type or name is wrong; nothing when they are right.
+    std::optional<Upload> refuseRequest(std::string_view mediaType, const std::string& name) const;
     /// Loads the file and fills `asset` from the mesh; the refusal when it cannot be loaded or
     /// has too many triangles.
     std::optional<Upload> load(MeshFormat format, const std::string& name, const std::string& bytes,

@@ -30,7 +30,7 @@ struct Job {
     Json scene;     ///< The scene object to render (an example name is resolved at submission).
     Json settings;  ///< The complete, validated settings.
     std::string sceneName;            ///< The example scene's name when one was asked for by name.
-    std::vector<std::string> assets;  ///< The distinct asset ids its scene names (store/asset.h).
+    std::vector<std::string> assets;  ///< Distinct asset ids its scene names; read back by get().
     double createdAt = 0, startedAt = 0, finishedAt = 0;  ///< Unix seconds; 0 for not yet.
 
     // The lease protocol (store/job_store.h).

@@ -345,7 +345,8 @@ TEST_F(JobStoreTest, RemovesAssetsUnusedSinceACutOff) {
 }
 
 TEST_F(JobStoreTest, ListsAssetsNewestFirstInPagesAndSurvivesReopening) {
-    for (int i = 0; i < 5; ++i) upload("a" + std::to_string(i), std::string(size_t(i + 1), 'x'));
+    const std::vector<std::string> ids{"a0", "a1", "a2", "a3", "a4"};
+    for (size_t i = 0; i < ids.size(); ++i) upload(ids[i], std::string(i + 1, 'x'));
     AssetPage first = store_->listAssets(2, std::nullopt);
     ASSERT_EQ(first.assets.size(), 2u);
     EXPECT_EQ(first.assets[0].id, "a4");

@@ -8,6 +8,7 @@ import json
 import os
 import socket
 import struct
+import time
 
 import pytest
 
@@ -339,3 +340,27 @@ def test_limits_of_size_triangles_and_storage(small):
     assert small.delete(f"/api/assets/{spot['id']}").status_code == 204
     upload_ok(small, padded_obj(390000, "full"))
     small.healthy()
+
+
+def test_uploads_over_max_uploads_in_flight_are_429(start_server):
+    server = start_server("--threads", "2", "--max-uploads", "1")
+    body = padded_obj(5000, "slow")
+    with socket.create_connection(("127.0.0.1", server.port), timeout=10) as slow:
+        slow.sendall(b"POST /api/assets HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: model/obj\r\n"
+                     + f"Content-Length: {len(body)}\r\n\r\n".encode() + body[:100])
+        # Its handler takes the one place before the body is read, and holds it while it waits
+        # for the rest: another upload is refused once it has started.
+        end = time.monotonic() + 8
+        while True:
+            r = upload(server, padded_obj(100, f"try {time.monotonic()}"))
+            if r.status_code == 429:
+                break
+            assert r.status_code == 201, r.text
+            assert time.monotonic() < end, "the slow upload never held its place\n" + server.log()
+            time.sleep(0.02)
+        assert_problem(r, 429, detail="--max-uploads")
+        assert r.headers["Retry-After"] == "5"
+        slow.sendall(body[100:])
+        reply = slow.recv(65536)
+    assert reply.startswith(b"HTTP/1.1 201"), reply
+    upload_ok(server, padded_obj(100, "after"))
