@@ -8,8 +8,8 @@ import path from 'node:path';
 import {after, before, test} from 'node:test';
 import {fileURLToPath} from 'node:url';
 
-import {api, BASE, closeBrowser, itemOf, launch, MAX_SPP, NARROW, openPage, RENDER_TIMEOUT, shot,
-  smallScene, submit, watchErrors, WIDE} from './browser.mjs';
+import {api, BASE, closeBrowser, itemOf, launch, MAX_SPP, NARROW, openPage, RENDER_TIMEOUT,
+  selectExample, shot, smallScene, submit, watchErrors, WIDE} from './browser.mjs';
 
 let browser;
 const shared = {};  // jobs made by one test for later ones
@@ -88,7 +88,7 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
 
 test('submit a job: live progress, the preview, then the final image with its stats', async () => {
   const {page, close} = await openPage();
-  await page.selectOption('#scene-name', 'cornell-box');
+  await selectExample(page, 'cornell-box');
   await smallScene(page, 64);
   await page.selectOption('#s-integrator', 'path');
   await page.fill('#s-spp', '400');
@@ -310,7 +310,7 @@ test('validation errors are shown where their pointer says', async () => {
 
 test('queue: a running job shows its ETA, can be cancelled and deleted', async () => {
   const {page, close} = await openPage();
-  await page.selectOption('#scene-name', 'cornell-box');
+  await selectExample(page, 'cornell-box');
   await page.selectOption('#s-integrator', 'path');
   await page.fill('#s-spp', String(MAX_SPP));
   await page.fill('#s-spp_per_pass', '1');
@@ -348,7 +348,7 @@ function objCounts(text) {
 
 test('assets: drop a mesh, see its counts, insert it, render it; delete refused while used, then deleted', async () => {
   const {page, close} = await openPage();
-  await page.selectOption('#scene-name', 'cornell-box');
+  await selectExample(page, 'cornell-box');
   await smallScene(page, 64);
 
   // Drag and drop the teapot onto the panel: a DataTransfer holding a File, made in the page.

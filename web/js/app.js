@@ -98,12 +98,16 @@ let exampleText = '';
 let sceneSettingsKey = '';
 
 async function loadExample(name) {
+  // Set again once the example's text is in the editor: tests wait for it, as an edit made before
+  // then would be overwritten.
+  delete sceneText.dataset.example;
   try {
     exampleText = await api.sceneText(name);
   } catch (e) {
     return reportError(e);
   }
   sceneText.value = exampleText;
+  sceneText.dataset.example = name;
   clearErrors();
   const settings = sceneSettings();
   sceneSettingsKey = JSON.stringify(settings);
