@@ -130,9 +130,11 @@ CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
     c.assetsDir = CAUSTIC_DEFAULT_ASSETS_DIR;
     c.scenesDir = CAUSTIC_DEFAULT_SCENES_DIR;
     c.webDir = CAUSTIC_DEFAULT_WEB_DIR;
+    c.docsDir = CAUSTIC_DEFAULT_DOCS_DIR;
     addFolder(*serve, "--assets", c.assetsDir, "The folder mesh file names resolve in");
     addFolder(*serve, "--scenes", c.scenesDir, "Example scenes, submittable by name");
     addFolder(*serve, "--web", c.webDir, "Static files of the web page");
+    addFolder(*serve, "--docs", c.docsDir, "Documentation served at /docs/ (the scene format)");
     addWorkOptions(*serve, c);
     addStorageOptions(*serve, c.storage);
     addBrowserAndLogOptions(*serve, c);

@@ -45,6 +45,7 @@ struct ServerConfig {
     std::filesystem::path assetsDir;  ///< Mesh files resolve inside it only.
     std::filesystem::path scenesDir;  ///< Example scenes, submitted by name.
     std::filesystem::path webDir;     ///< Static files of the web page.
+    std::filesystem::path docsDir;    ///< The documentation (docs/), served at /docs/.
     std::string token;  ///< Bearer token for mutating requests; required off loopback.
     /// Origins ("http://host:port") whose pages may change jobs and read answers (CORS).
     std::vector<std::string> allowedOrigins;

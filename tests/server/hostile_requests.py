@@ -194,6 +194,9 @@ CASES = [
     Case("static_backslashes", 404, raw=get_as_is("/..\\..\\etc\\passwd")),
     Case("static_nul_byte", 400, raw=get_as_is("/index.html%00.png"), detail="NUL"),
     Case("api_dotdot", 404, raw=get_as_is("/api/jobs/../../../../etc/passwd")),
+    # ... and docs/ (served at /docs/).
+    Case("docs_dotdot", 404, raw=get_as_is("/docs/../../../etc/passwd")),
+    Case("docs_encoded_dots", 404, raw=get_as_is("/docs/%2e%2e/README.md")),
     # Job ids.
     Case("id_31_hex", 404, method="GET", path="/api/jobs/" + UNKNOWN_ID[:31]),
     Case("id_33_hex", 404, method="GET", path="/api/jobs/" + UNKNOWN_ID + "0"),

@@ -30,6 +30,37 @@ def test_openapi_document_is_the_source_file(server):
         assert r.json() == json.load(f)
 
 
+def test_scene_format_is_served_where_the_openapi_document_links(server):
+    # The API's externalDocs and its scene schema point at the scene format, served from docs/.
+    document = server.get("/api/openapi.json").json()
+    links = {document["externalDocs"]["url"]}
+    for variant in document["components"]["schemas"]["JobRequest"]["properties"]["scene"]["oneOf"]:
+        if "externalDocs" in variant:
+            links.add(variant["externalDocs"]["url"])
+    assert links == {"/docs/scene-format.md"}
+    r = server.get("/docs/scene-format.md")
+    assert r.status_code == 200
+    assert r.headers["Content-Type"] == "text/markdown; charset=utf-8"
+    with open(os.path.join(ROOT, "docs", "scene-format.md"), encoding="utf-8") as f:
+        assert r.text == f.read()
+
+
+def test_scene_format_example_with_an_uploaded_mesh_renders(server):
+    # docs/scene-format.md's uploaded-mesh example as a user follows it: upload the teapot, put its
+    # id where the example says ASSET_ID, render (tests/cli/docs_examples_test.cpp renders the rest).
+    with open(os.path.join(ROOT, "assets", "meshes", "teapot.obj"), "rb") as f:
+        r = server.post("/api/assets?name=teapot.obj", data=f.read(),
+                        headers={"Content-Type": "model/obj"})
+    assert r.status_code in (200, 201), r.text
+    with open(os.path.join(ROOT, "docs", "scene-format.md"), encoding="utf-8") as f:
+        blocks = re.findall(r"^```json\n(.*?)^```$", f.read(), re.S | re.M)
+    examples = [b for b in blocks if '"ASSET_ID"' in b]
+    assert len(examples) == 1
+    scene = json.loads(examples[0].replace("ASSET_ID", r.json()["id"]))
+    job = submit_ok(server, {"scene": scene, "settings": {"spp": 1}})
+    assert run_to_end(server, job["id"])["state"] == "succeeded"
+
+
 def test_scenes(server):
     r = server.get("/api/scenes")
     assert r.status_code == 200

@@ -68,6 +68,13 @@ export async function shot(page, name, fullPage = false) {
   console.log(`screenshot: ${file}`);
 }
 
+/** Chooses an example scene and waits until its text is in the editor (it loads asynchronously:
+ *  an edit made before then would be overwritten). */
+export async function selectExample(page, name) {
+  await page.selectOption('#scene-name', name);
+  await page.waitForSelector(`#scene-json[data-example="${name}"]`);
+}
+
 /** Edits the scene in the editor (from the chosen example) to `size`x`size` pixels. */
 export async function smallScene(page, size) {
   const scene = JSON.parse(await page.inputValue('#scene-json'));

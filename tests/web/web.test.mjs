@@ -3,10 +3,13 @@
 // and fails on any console error or uncaught exception it did not expect. Screenshots go to
 // $CAUSTIC_WEB_SCREENSHOTS; the page weight of a first load is printed.
 import assert from 'node:assert/strict';
+import {readFileSync} from 'node:fs';
+import path from 'node:path';
 import {after, before, test} from 'node:test';
+import {fileURLToPath} from 'node:url';
 
-import {api, BASE, closeBrowser, itemOf, launch, MAX_SPP, NARROW, openPage, RENDER_TIMEOUT, shot,
-  smallScene, submit, watchErrors, WIDE} from './browser.mjs';
+import {api, BASE, closeBrowser, itemOf, launch, MAX_SPP, NARROW, openPage, RENDER_TIMEOUT,
+  selectExample, shot, smallScene, submit, watchErrors, WIDE} from './browser.mjs';
 
 let browser;
 const shared = {};  // jobs made by one test for later ones
@@ -85,7 +88,7 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
 
 test('submit a job: live progress, the preview, then the final image with its stats', async () => {
   const {page, close} = await openPage();
-  await page.selectOption('#scene-name', 'cornell-box');
+  await selectExample(page, 'cornell-box');
   await smallScene(page, 64);
   await page.selectOption('#s-integrator', 'path');
   await page.fill('#s-spp', '400');
@@ -307,7 +310,7 @@ test('validation errors are shown where their pointer says', async () => {
 
 test('queue: a running job shows its ETA, can be cancelled and deleted', async () => {
   const {page, close} = await openPage();
-  await page.selectOption('#scene-name', 'cornell-box');
+  await selectExample(page, 'cornell-box');
   await page.selectOption('#s-integrator', 'path');
   await page.fill('#s-spp', String(MAX_SPP));
   await page.fill('#s-spp_per_pass', '1');
@@ -328,6 +331,155 @@ test('queue: a running job shows its ETA, can be cancelled and deleted', async (
   assert.equal((await api(`/api/jobs/${job.id}`)).status, 404);
   assert.notEqual(await page.evaluate(() => location.hash), `#job=${job.id}`);
   await close();
+});
+
+// A real mesh from the repository: small enough to upload and render in a moment.
+const MESHES = fileURLToPath(new URL('../../assets/meshes/', import.meta.url));
+/** Triangles and vertices of an OBJ, counted here (a face of n corners makes n - 2 triangles). */
+function objCounts(text) {
+  let triangles = 0, vertices = 0;
+  for (const line of text.split('\n')) {
+    const words = line.trim().split(/\s+/);
+    if (words[0] === 'v') vertices++;
+    else if (words[0] === 'f') triangles += words.length - 3;
+  }
+  return {triangles, vertices};
+}
+
+test('assets: drop a mesh, see its counts, insert it, render it; delete refused while used, then deleted', async () => {
+  const {page, close} = await openPage();
+  await selectExample(page, 'cornell-box');
+  await smallScene(page, 64);
+
+  // Drag and drop the teapot onto the panel: a DataTransfer holding a File, made in the page.
+  const text = readFileSync(path.join(MESHES, 'teapot.obj'), 'utf8');
+  const transfer = await page.evaluateHandle(body => {
+    const dt = new DataTransfer();
+    dt.items.add(new File([body], 'teapot.obj'));
+    return dt;
+  }, text);
+  const uploaded = page.waitForResponse(r => r.url().startsWith(`${BASE}/api/assets`) && r.request().method() === 'POST');
+  for (const type of ['dragenter', 'dragover']) await page.dispatchEvent('#asset-drop', type, {dataTransfer: transfer});
+  assert.ok(await page.$eval('#asset-drop', d => d.classList.contains('dropping')), 'the drop zone shows the drag');
+  await page.dispatchEvent('#asset-drop', 'drop', {dataTransfer: transfer});
+  const response = await uploaded;
+  assert.equal(response.status(), 201);
+  assert.equal(response.request().headers()['content-type'], 'model/obj');
+  const asset = await response.json();
+  assert.equal(asset.name, 'teapot.obj');
+  assert.equal(asset.bytes, Buffer.byteLength(text), 'the whole file, as the raw body');
+  assert.deepEqual({triangles: asset.triangles, vertices: asset.vertices}, objCounts(text));
+
+  // Its counts and bounds in the list; the progress bar gone, the status saying what arrived.
+  const item = `.asset[data-id="${asset.id}"]`;
+  await page.waitForSelector(item);
+  const facts = await page.$$eval(`${item} dd`, dds => Object.fromEntries(dds.map(d => [d.dataset.fact, d.textContent])));
+  assert.equal(facts.triangles, asset.triangles.toLocaleString('en-US'));
+  assert.equal(facts.vertices, asset.vertices.toLocaleString('en-US'));
+  assert.match(facts.bounds, /^\[-3, 0, -2\] – \[3\.43, 3\.15, 2\]$/, 'the teapot\'s bounds');
+  assert.ok(await page.isHidden('#asset-progress'));
+  assert.match(await page.textContent('#asset-status'), /teapot\.obj: 6,320 triangles/);
+  assert.ok(!(await page.$eval('#asset-drop', d => d.classList.contains('dropping'))));
+  await shot(page, 'asset-uploaded');
+
+  // Insert: a mesh shape referencing the asset, its largest side a third of the way to look_at,
+  // centered there, with a material of the scene; the new shape selected in the editor.
+  const before = JSON.parse(await page.inputValue('#scene-json'));
+  await page.click(`${item} button:text("Insert")`);
+  const scene = JSON.parse(await page.inputValue('#scene-json'));
+  assert.equal(scene.shapes.length, before.shapes.length + 1);
+  assert.deepEqual(scene.materials, before.materials, 'no material added: the scene has one');
+  const shape = scene.shapes.at(-1);
+  assert.equal(shape.type, 'mesh');
+  assert.equal(shape.asset, asset.id);
+  assert.equal(shape.material, 'white');
+  const {position, look_at: lookAt} = scene.camera;
+  const distance = Math.hypot(...lookAt.map((v, i) => v - position[i]));
+  const {min, max} = asset.bounds;
+  const largest = Math.max(...max.map((v, i) => v - min[i]));
+  assert.ok(Math.abs(shape.transform.scale * largest - distance / 3) < 1e-3 * distance, 'a third of the distance');
+  for (let i = 0; i < 3; i++) {
+    const center = shape.transform.scale * (min[i] + max[i]) / 2 + shape.transform.translate[i];
+    assert.ok(Math.abs(center - lookAt[i]) < 1e-3 * distance, `centered on look_at (axis ${i})`);
+  }
+  const selected = await page.$eval('#scene-json', t => t.value.slice(t.selectionStart, t.selectionEnd));
+  assert.deepEqual(JSON.parse(selected), shape, 'the inserted shape is selected in the editor');
+  assert.match(await page.textContent('#asset-status'), /Inserted teapot\.obj as \/shapes\/\d+/);
+
+  // Render it; the result is shown, and the render holds the mesh.
+  await page.selectOption('#s-integrator', 'path');
+  await page.fill('#s-spp', '16');
+  const {status, body: job} = await submit(page);
+  assert.equal(status, 202);
+  await page.waitForSelector(`${itemOf(job.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
+  await page.waitForSelector('#viewer-canvas[data-kind=image]');
+  assert.deepEqual(await page.$eval('#viewer-canvas', c => ({w: c.width, h: c.height, src: c.dataset.src})),
+    {w: 64, h: 64, src: `/api/jobs/${job.id}/image.png`});
+  const done = (await api(`/api/jobs/${job.id}`)).body;
+  assert.ok(done.stats.memory.meshes > 0, 'the render loaded the mesh');
+  await shot(page, 'asset-rendered');
+
+  // Refused files: one that is no mesh (said here, nothing sent), one the server finds broken (its
+  // problem detail, naming the line).
+  await page.setInputFiles('#asset-file', {name: 'notes.txt', mimeType: 'text/plain', buffer: Buffer.from('hi')});
+  assert.match(await page.textContent('#asset-error'), /notes\.txt: not a mesh this service takes/);
+  const [refused] = await Promise.all([
+    page.waitForResponse(r => r.url().startsWith(`${BASE}/api/assets`) && r.request().method() === 'POST'),
+    page.setInputFiles('#asset-file', {name: 'broken.obj', mimeType: '', buffer: Buffer.from('v 0 0 0\nv 1 0 0\nf 1 2 7\n')}),
+  ]);
+  assert.equal(refused.status(), 422);
+  await page.waitForFunction(() => /^broken\.obj: .*line 3/.test(document.querySelector('#asset-error').textContent));
+  assert.ok(await page.isHidden('#asset-progress'));
+
+  // A second mesh, from the file picker, sent at 256 KiB/s: the progress bar moves. Then Delete on
+  // the teapot while a long job uses it: 409, its detail under the asset, which stays listed.
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send('Network.emulateNetworkConditions',
+    {offline: false, latency: 0, downloadThroughput: -1, uploadThroughput: 256 * 1024});
+  await page.evaluate(() => {
+    const bar = document.querySelector('#asset-progress');
+    window.progressSeen = [];
+    const tick = () => {
+      if (!bar.hidden) window.progressSeen.push(bar.value);
+      if (!window.progressDone) setTimeout(tick, 20);
+    };
+    tick();
+  });
+  const [second] = await Promise.all([
+    page.waitForResponse(r => r.url().startsWith(`${BASE}/api/assets`) && r.request().method() === 'POST'),
+    page.setInputFiles('#asset-file', path.join(MESHES, 'spot.obj')),
+  ]);
+  await cdp.send('Network.emulateNetworkConditions',
+    {offline: false, latency: 0, downloadThroughput: -1, uploadThroughput: -1});
+  const seen = await page.evaluate(() => { window.progressDone = true; return window.progressSeen; });
+  const partial = [...new Set(seen.filter(v => v > 0 && v < 1))];
+  assert.ok(partial.length >= 2, `upload progress seen at ${partial.length} values between 0 and 1`);
+  for (let i = 1; i < seen.length; i++) assert.ok(seen[i] >= seen[i - 1], 'upload progress never goes back');
+  console.log(`upload progress values seen: ${partial.length}`);
+  assert.equal(second.status(), 201);
+  // (The browser keeps no big response bodies for long: the id comes from the list.)
+  await page.waitForSelector('.asset .asset-name:text-is("spot.obj")');
+  const spot = {id: await page.$eval('#assets .asset', li => li.dataset.id)};
+  assert.equal((await api(`/api/assets/${spot.id}`)).body.name, 'spot.obj', 'newest first');
+  await page.fill('#s-spp', String(MAX_SPP));
+  await page.fill('#s-spp_per_pass', '1');
+  await page.fill('#s-time_limit', '60');
+  const long = await submit(page);
+  assert.equal(long.status, 202);
+  await page.click(`${item} button:text("Delete")`);
+  await page.waitForSelector(`${item} .asset-error:not(:empty)`);
+  assert.match(await page.textContent(`${item} .asset-error`), /job/);
+  assert.equal((await api(`/api/assets/${asset.id}`)).status, 200, 'the used asset is kept');
+  await shot(page, 'asset-in-use');
+  assert.equal((await api(`/api/jobs/${long.body.id}/cancel`, {method: 'POST'})).status, 202);
+
+  // The unused one goes.
+  await page.click(`.asset[data-id="${spot.id}"] button:text("Delete")`);
+  await page.waitForSelector(`.asset[data-id="${spot.id}"]`, {state: 'detached'});
+  assert.equal((await api(`/api/assets/${spot.id}`)).status, 404);
+  // The browser logs the refused upload and the refused delete; nothing else.
+  const errors = await close([/status of 422/, /status of 409/]);
+  assert.equal(errors.length, 2, errors.join('\n'));
 });
 
 test('layout at 1280x800 and 400x800: no horizontal overflow; columns, then stacked', async () => {

@@ -39,6 +39,35 @@ async function request(method, path, body) {
 }
 
 const job = id => `/api/jobs/${encodeURIComponent(id)}`;
+const asset = id => `/api/assets/${encodeURIComponent(id)}`;
+
+/** The media type POST /api/assets takes for a mesh file's name, or '' for another kind of file. */
+export function meshMediaType(name) {
+  const ext = /\.([^.]+)$/.exec(name)?.[1]?.toLowerCase();
+  return {obj: 'model/obj', glb: 'model/gltf-binary'}[ext] || '';
+}
+
+// The file as the raw body. XMLHttpRequest, not fetch: only it reports upload progress.
+function upload(file, onProgress) {
+  return new Promise((resolve, reject) => {
+    const xhr = new XMLHttpRequest();
+    // The service refuses a name over 200 characters (code points: Array.from splits no pair).
+    xhr.open('POST', `/api/assets?name=${encodeURIComponent(Array.from(file.name).slice(0, 200).join(''))}`);
+    xhr.setRequestHeader('Content-Type', meshMediaType(file.name));
+    if (token) xhr.setRequestHeader('Authorization', `Bearer ${token}`);
+    xhr.upload.addEventListener('progress', e => { if (e.lengthComputable) onProgress(e.loaded / e.total); });
+    xhr.addEventListener('load', () => {
+      let data;
+      try { data = JSON.parse(xhr.responseText); } catch { data = {detail: xhr.responseText || `HTTP ${xhr.status}`}; }
+      if (xhr.status >= 200 && xhr.status < 300) return resolve(data);
+      const retry = xhr.getResponseHeader('Retry-After');
+      if (retry && data.detail) data.detail += ` (retry in ${retry} s)`;
+      reject(new ApiError(xhr.status, data));
+    });
+    xhr.addEventListener('error', () => reject(new ApiError(0, {detail: 'the upload did not reach the server'})));
+    xhr.send(file);
+  });
+}
 
 export const api = {
   settings: () => request('GET', '/api/settings'),
@@ -55,4 +84,8 @@ export const api = {
   cancel: id => request('POST', `${job(id)}/cancel`),
   remove: id => request('DELETE', job(id)),
   eventsUrl: id => `${job(id)}/events`,
+  assets: () => request('GET', '/api/assets?limit=100').then(r => r.assets),
+  /** Uploads a mesh File; onProgress(fraction sent). Resolves to the asset (new or known). */
+  uploadAsset: (file, onProgress = () => {}) => upload(file, onProgress),
+  removeAsset: id => request('DELETE', asset(id)),
 };

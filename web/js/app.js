@@ -1,12 +1,15 @@
-// The Caustic page: wires the scene editor and the settings form (submit), the queue, the viewer
-// and the comparison together. Validation errors from the server (problem+json) are shown where
-// their `pointer` says: a setting's message beside its input, a scene path under the editor.
+// The Caustic page: wires the scene editor and the settings form (submit), the queue, the viewer,
+// the comparison and the uploaded meshes together. Validation errors from the server
+// (problem+json) are shown where their `pointer` says: a setting's message beside its input, a
+// scene path under the editor.
 import {api, ApiError, setToken} from './api.js';
+import {AssetsPanel} from './assets.js';
 import {Compare} from './compare.js';
 import {h, rememberSceneLabel} from './format.js';
 import {Jobs} from './jobs.js';
 import {QueueView} from './queue.js';
 import {locate} from './locate.js';
+import {meshShapeFor} from './placement.js';
 import {SettingsForm} from './settings.js';
 import {Viewer} from './viewer.js';
 
@@ -35,6 +38,7 @@ const jobs = new Jobs();
 const viewer = new Viewer($('#viewer'), jobs);
 const compare = new Compare($('#compare'), jobs, reportError);
 const queue = new QueueView($('#jobs'), $('#jobs-empty'), jobs, {onOpen: openJob, onError: reportError});
+const assets = new AssetsPanel($('#assets-panel'), {onInsert: insertAsset, onUnauthorized: askForToken});
 const OFFLINE = 'The server does not answer';
 jobs.addEventListener('offline', e => showNotice(`${OFFLINE} (${e.detail.message}); retrying.`));
 jobs.addEventListener('online', () => {
@@ -94,12 +98,16 @@ let exampleText = '';
 let sceneSettingsKey = '';
 
 async function loadExample(name) {
+  // Set again once the example's text is in the editor: tests wait for it, as an edit made before
+  // then would be overwritten.
+  delete sceneText.dataset.example;
   try {
     exampleText = await api.sceneText(name);
   } catch (e) {
     return reportError(e);
   }
   sceneText.value = exampleText;
+  sceneText.dataset.example = name;
   clearErrors();
   const settings = sceneSettings();
   sceneSettingsKey = JSON.stringify(settings);
@@ -135,7 +143,12 @@ function showSceneError(pointer, message) {
   sceneErrors.append(h('li', {}, pointer ? h('code', {text: pointer}) : null, pointer ? ` ${message}` : message));
   sceneText.setAttribute('aria-invalid', 'true');
   // Select the value the pointer names, when the editor holds that scene.
-  const at = pointer.startsWith('/scene') ? locate(sceneText.value, pointer.slice('/scene'.length)) : null;
+  selectInEditor(pointer.startsWith('/scene') ? pointer.slice('/scene'.length) : null);
+}
+
+/** Focuses the editor and selects the value at `pointer` (a path inside the scene), if any. */
+function selectInEditor(pointer) {
+  const at = pointer === null ? null : locate(sceneText.value, pointer);
   sceneText.focus({preventScroll: true});
   sceneText.closest('fieldset').scrollIntoView({block: 'nearest'});
   if (at) {
@@ -144,6 +157,27 @@ function showSceneError(pointer, message) {
     const line = sceneText.value.slice(0, at[0]).split('\n').length - 1;
     sceneText.scrollTop = Math.max(0, line - 2) * parseFloat(getComputedStyle(sceneText).lineHeight || '16');
   }
+}
+
+// Insert (Assets panel): the mesh goes into the scene in the editor, which is then sent as an
+// object; the new shape is selected in the editor.
+function insertAsset(asset) {
+  let scene;
+  try {
+    scene = JSON.parse(sceneText.value);
+  } catch (e) {
+    throw new Error(`The scene in the editor is not valid JSON (${e.message}); fix it first.`);
+  }
+  if (!scene || typeof scene !== 'object' || Array.isArray(scene)) throw new Error('The editor holds no scene object.');
+  const {shape, materials} = meshShapeFor(scene, asset);
+  if (Object.keys(materials).length) scene.materials = {...(scene.materials || {}), ...materials};
+  if (!Array.isArray(scene.shapes)) scene.shapes = [];
+  scene.shapes.push(shape);
+  sceneText.value = JSON.stringify(scene, null, 2);
+  sceneText.dispatchEvent(new Event('input'));
+  const pointer = `/shapes/${scene.shapes.length - 1}`;
+  selectInEditor(pointer);
+  return `Inserted ${asset.name || 'the mesh'} as ${pointer} (material "${shape.material}", scale ${shape.transform.scale}).`;
 }
 
 function clearErrors() {
@@ -213,7 +247,7 @@ try {
 } catch (e) {
   reportError(e);
 }
-await jobs.refresh();
+await Promise.all([jobs.refresh(), assets.refresh()]);
 const fromHash = /^#job=([0-9a-f]{32})$/.exec(location.hash)?.[1];
 const first = (fromHash && jobs.get(fromHash)) || jobs.list()[0];
 if (first) openJob(first.id);
