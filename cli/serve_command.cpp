@@ -79,7 +79,8 @@ void addStorageOptions(CLI::App& serve, server::StoragePolicy& s) {
     cli::addNumber(serve, "--sweep-seconds", s.sweepSeconds, 0.05, 86400,
                    "How often retention runs and the data folder's disk use is measured");
     cli::addNumber(serve, "--min-free-mib", s.minFreeMiB, 0, 1e9,
-                   "Free space the data folder's disk must have for a new job (507 under it)");
+                   "Free space the data folder's disk must keep after a new job or upload (507 "
+                   "under it); 0 checks only that writes succeed");
 }
 
 // Who may use the API from a web page, and what the service logs (README, "Security" and

@@ -77,13 +77,17 @@ void MeshErrors::fail(const std::string& what) const {
     throw InputError(path, name.empty() ? what : name + ": " + what);
 }
 
+void MeshErrors::overLimit(const std::string& what) const {
+    throw MeshOverLimit(path, name.empty() ? what : name + ": " + what);
+}
+
 TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
                             const MeshTransform& transform, const std::string& name,
-                            const std::string& path) {
+                            const std::string& path, uint64_t maxTriangles) {
     MeshErrors errors{name, path};
     if (format == MeshFormat::Glb) return parseGlb(bytes, transform, errors);
     // The line pass names the line at fault; then the loader every scene file goes through.
-    checkObjLines(bytes, errors);
+    checkObjLines(bytes, errors, maxTriangles);
     ViewBuffer buffer(bytes);
     std::istream in(&buffer);
     return parseObj(in, name, transform, path);

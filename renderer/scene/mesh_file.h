@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/error.h"
 #include "core/math.h"
 #include "scene/mesh_loader.h"
 
@@ -29,14 +30,31 @@ std::optional<MeshFormat> meshFormatNamed(std::string_view name);  ///< "obj", "
 ///
 /// A .glb gives the meshes of every node of every scene (all root nodes when it has no scene),
 /// each under its node's world transform and then `transform`; materials are ignored. Nodes may
-/// instance one mesh many times, so the instanced total is bounded (kMaxGlbElements). Thread-safe.
+/// instance one mesh many times, so the instanced total is bounded (kMaxGlbElements). An OBJ's
+/// triangles are counted by the line pass, before any is built: over `maxTriangles` it fails at
+/// the line that passes it (a service's limit holds before the loader spends memory on a file).
+/// Thread-safe.
 TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
                             const MeshTransform& transform, const std::string& name,
-                            const std::string& path);
+                            const std::string& path, uint64_t maxTriangles = uint64_t(1) << 25);
+
+/// The InputError of a mesh file over parseMeshBytes' `maxTriangles`: a limit, which a service
+/// answers as one, rather than a malformed file.
+class MeshOverLimit : public InputError {
+public:
+    using InputError::InputError;
+};
 
 /// The most vertices plus triangles a .glb may make once its nodes have instanced their meshes
 /// (about 400 MB of mesh): a file of a few kilobytes must not expand into gigabytes.
 inline constexpr uint64_t kMaxGlbElements = uint64_t(1) << 25;
+/// The largest JSON chunk of a .glb read, and the most objects of one kind (nodes, meshes,
+/// accessors, ...) in it: tinygltf keeps each in a few hundred bytes.
+inline constexpr size_t kMaxGlbJsonBytes = size_t(16) << 20;
+inline constexpr size_t kMaxGlbObjects = size_t(1) << 16;
+/// The most corners of one OBJ face: tinyobjloader triangulates a polygon by ear clipping, which
+/// takes time quadratic in its corners (one face of 10^6 corners, 7 MB, would take hours).
+inline constexpr size_t kMaxObjFaceCorners = 256;
 
 struct MeshBounds {
     Vec3 min, max;

@@ -19,6 +19,8 @@ struct MeshErrors {
     const std::string& name;
     const std::string& path;
     [[noreturn]] void fail(const std::string& what) const;
+    /// The same as a MeshOverLimit.
+    [[noreturn]] void overLimit(const std::string& what) const;
 };
 
 /// Checks OBJ text line by line before tinyobjloader reads it, which reports few errors and reads
@@ -26,8 +28,9 @@ struct MeshErrors {
 /// corners whose vertex index (a negative one counts back from the vertices so far) names a vertex
 /// defined above it; control bytes are binary data; a last line cut mid-statement is a truncated
 /// file. Lines end at "\n", "\r\n" or a lone "\r", as tinyobjloader reads them. Fails with "line N:
-/// ...", "the file is empty" or "has no faces (no triangles)".
-void checkObjLines(std::string_view bytes, const MeshErrors& errors);
+/// ...", "the file is empty" or "has no faces (no triangles)". A face has at most
+/// kMaxObjFaceCorners corners, and the faces make at most `maxTriangles` triangles (n - 2 each).
+void checkObjLines(std::string_view bytes, const MeshErrors& errors, uint64_t maxTriangles);
 
 /// Checks a .glb's header and chunks, parses its JSON chunk and refuses any buffer or image URI,
 /// all before tinygltf reads it.

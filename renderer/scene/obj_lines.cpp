@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "scene/mesh_file.h"
 #include "scene/mesh_file_parts.h"
 
 namespace caustic {
@@ -78,6 +79,7 @@ std::string coordinateError(std::string_view field) {
 
 class ObjLineChecker {
 public:
+    explicit ObjLineChecker(uint64_t maxTriangles) : maxTriangles_(maxTriangles) {}
     // "" when the line is fine, else what is wrong with it.
     std::string check(std::string_view line) {
         std::vector<std::string_view> f = fieldsOf(line);
@@ -87,6 +89,7 @@ public:
         return "";
     }
     uint64_t faces() const { return faces_; }
+    bool overLimit() const { return triangles_ > maxTriangles_; }
 
 private:
     std::string vertex(const std::vector<std::string_view>& f) {
@@ -100,6 +103,13 @@ private:
 
     std::string face(const std::vector<std::string_view>& f) {
         if (f.size() < 4) return "a face needs 3 corners, got " + std::to_string(f.size() - 1);
+        if (f.size() - 1 > kMaxObjFaceCorners)
+            return "a face of " + std::to_string(f.size() - 1) + " corners; at most " +
+                   std::to_string(kMaxObjFaceCorners) + " are read (split the polygon)";
+        triangles_ += f.size() - 3;
+        if (triangles_ > maxTriangles_)
+            return "the faces so far make " + std::to_string(triangles_) +
+                   " triangles, over the limit of " + std::to_string(maxTriangles_);
         for (size_t i = 1; i < f.size(); ++i)
             if (std::string e = corner(f[i]); !e.empty()) return e;
         ++faces_;
@@ -131,16 +141,18 @@ private:
         return "";
     }
 
+    uint64_t maxTriangles_;
     uint64_t vertices_ = 0;
     uint64_t faces_ = 0;
+    uint64_t triangles_ = 0;
 };
 
 }  // namespace
 
-void checkObjLines(std::string_view bytes, const MeshErrors& errors) {
+void checkObjLines(std::string_view bytes, const MeshErrors& errors, uint64_t maxTriangles) {
     if (bytes.find_first_not_of(" \t\r\n") == std::string_view::npos)
         errors.fail("the file is empty");
-    ObjLineChecker checker;
+    ObjLineChecker checker(maxTriangles);
     uint64_t number = 0;
     for (size_t start = 0; start < bytes.size();) {
         size_t end = std::min(bytes.find_first_of("\r\n", start), bytes.size());
@@ -150,7 +162,9 @@ void checkObjLines(std::string_view bytes, const MeshErrors& errors) {
             errors.fail("line " + std::to_string(number) + ": " + what);
         };
         if (auto c = firstBinaryByte(line)) fail("binary data (byte " + hex(*c) + ")");
-        if (std::string e = checker.check(line); !e.empty())
+        if (std::string e = checker.check(line); !e.empty() && checker.overLimit())
+            errors.overLimit("line " + std::to_string(number) + ": " + e);
+        else if (!e.empty())
             // A statement is complete only at its end of line.
             fail(end == bytes.size()
                      ? "the file ends in the middle of a statement (truncated): " + e

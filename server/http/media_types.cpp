@@ -38,15 +38,32 @@ std::string listOf(const std::vector<std::string_view>& types) {
     return list;
 }
 
+// The types a page of another site may send without a preflight: an HTML form's and a "simple"
+// fetch's (Fetch standard, "CORS-safelisted request-header").
+bool simpleRequestType(const std::string& type) {
+    return type == "application/x-www-form-urlencoded" || type == "multipart/form-data" ||
+           type == "text/plain";
+}
+
 }  // namespace
 
 std::optional<Refusal> checkMediaType(const httplib::Request& req) {
-    // The guards set a missing Content-Length to 0; one that is not a number is not 0.
-    if (req.get_header_value("Content-Length") == "0") return std::nullopt;
     const std::string route = req.method + " " + req.path;
     const auto takes = std::find_if(kBodyRoutes.begin(), kBodyRoutes.end(), [&](const auto& r) {
         return r.method == req.method && r.path == req.path;
     });
+    // The guards set a missing Content-Length to 0; one that is not a number is not 0. An empty
+    // body is refused only when it comes as a form or text: a fieldless form posted by another
+    // site (with no Origin from an old browser) must not cancel a job.
+    if (req.get_header_value("Content-Length") == "0") {
+        const std::string given = mediaType(req.get_header_value("Content-Type"));
+        if (!simpleRequestType(given) ||
+            (takes != kBodyRoutes.end() &&
+             std::find(takes->mediaTypes.begin(), takes->mediaTypes.end(), given) !=
+                 takes->mediaTypes.end()))
+            return std::nullopt;
+        return Refusal{415, route + " is not taken from a form or as " + given};
+    }
     if (takes == kBodyRoutes.end()) return Refusal{415, route + " takes no body"};
     const std::string types = listOf(takes->mediaTypes);
     if (!req.has_header("Content-Type"))

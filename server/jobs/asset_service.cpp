@@ -1,8 +1,7 @@
 #include "jobs/asset_service.h"
 
-#include "store/storage_full.h"
-
 #include <openssl/evp.h>
+#include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <stdexcept>
@@ -10,6 +9,8 @@
 #include "core/error.h"
 #include "jobs/clock.h"
 #include "scene/mesh_file.h"
+#include "store/disk_space.h"
+#include "store/storage_full.h"
 
 namespace caustic::server {
 namespace {
@@ -99,19 +100,24 @@ std::optional<Upload> AssetService::load(MeshFormat format, const std::string& n
                                          const std::string& bytes, Asset& asset) const {
     using Outcome = Upload::Outcome;
     // Load it with the renderer's own loader: what passes here renders.
+    const int64_t maxTriangles = config_.limits.maxAssetTriangles;
+    auto tooMany = [maxTriangles](const std::string& what) {
+        return refused(Outcome::TooManyTriangles,
+                       what + "; this server takes at most " + std::to_string(maxTriangles) +
+                           " triangles per asset (--max-asset-triangles)");
+    };
     TriangleMesh mesh;
     try {
-        mesh =
-            parseMeshBytes(bytes, format, MeshTransform{}, name.empty() ? "the upload" : name, "");
+        // An OBJ's triangles are counted before they are built: the limit bounds the memory.
+        mesh = parseMeshBytes(bytes, format, MeshTransform{}, name.empty() ? "the upload" : name,
+                              "", uint64_t(maxTriangles));
+    } catch (const MeshOverLimit& e) {
+        return tooMany(e.message());
     } catch (const InputError& e) {
         return refused(Outcome::Invalid, e.message());
     }
-    const int64_t maxTriangles = config_.limits.maxAssetTriangles;
     if (int64_t(mesh.triangles.size()) > maxTriangles)
-        return refused(Outcome::TooManyTriangles,
-                       "the mesh has " + std::to_string(mesh.triangles.size()) +
-                           " triangles; this server takes at most " + std::to_string(maxTriangles) +
-                           " per asset (--max-asset-triangles)");
+        return tooMany("the mesh has " + std::to_string(mesh.triangles.size()) + " triangles");
     const MeshBounds bounds = boundsOf(mesh);
     asset.format = nameOf(format);
     asset.name = name;
@@ -137,12 +143,21 @@ Upload AssetService::upload(std::string_view mediaType, const std::string& name,
     const double now = unixNow();
     Asset asset;
     asset.id = sha256Hex(bytes);
+    const MeshFormat format = *meshFormatOfMediaType(mediaType);
     if (std::optional<Asset> stored = store_.getAsset(asset.id)) {
+        // The bytes were loaded as the format they were stored as: the same bytes in another
+        // format did not load as that one.
+        if (stored->format != nameOf(format))
+            return refused(Outcome::Invalid, "these bytes are stored as asset " + asset.id +
+                                                 " in the " + stored->format + " format, not as " +
+                                                 nameOf(format));
         asset = *stored;
     } else {
-        if (std::optional<Upload> refusal =
-                load(*meshFormatOfMediaType(mediaType), name, bytes, asset))
-            return *refusal;
+        // SQLite writes a new asset twice (its write-ahead log, then the database file).
+        if (std::optional<std::string> low = lowDiskSpace(
+                config_.dataDir, config_.storage.minFreeMiB, 2 * bytes.size(), "this upload"))
+            return refused(Outcome::StorageFull, *low);
+        if (std::optional<Upload> refusal = load(format, name, bytes, asset)) return *refusal;
         asset.createdAt = now;
     }
     asset.lastUsedAt = now;
@@ -165,6 +180,20 @@ Upload AssetService::upload(std::string_view mediaType, const std::string& name,
     u.outcome = stored == AssetInsert::Inserted ? Outcome::Created : Outcome::Existing;
     u.asset = asset;
     return u;
+}
+
+AssetRemoval AssetService::remove(const std::string& id) {
+    AssetRemoval removed = store_.removeAsset(id);
+    // A deleted asset frees its space at once: a user clearing room on a full disk sees it.
+    if (removed == AssetRemoval::Removed) {
+        try {
+            store_.reclaimSpace();
+        } catch (const std::exception& e) {
+            // The asset is gone either way; retention's next sweep tries again.
+            spdlog::warn("reclaiming the space of asset {}: {}", id, e.what());
+        }
+    }
+    return removed;
 }
 
 MeshAssetResolver storedAssets(JobStore& store) {

@@ -62,8 +62,8 @@ public:
 
     std::optional<Asset> get(const std::string& id) { return store_.getAsset(id); }
     AssetPage list(int limit, int64_t before) { return store_.listAssets(limit, before); }
-    /// Removes an asset unless a queued or running job uses it.
-    AssetRemoval remove(const std::string& id) { return store_.removeAsset(id); }
+    /// Removes an asset no queued or running job uses, and gives its space back to the disk.
+    AssetRemoval remove(const std::string& id);
 
 private:
     /// The refusal of a request whose type or name is wrong; nothing when they are right.

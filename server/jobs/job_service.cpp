@@ -75,13 +75,9 @@ std::optional<Submission> JobService::replay(const std::string& key, const std::
 Submission JobService::submit(const Json& body, const std::string& rawBody, const std::string& key,
                               const std::function<std::string(const Job&)>& respond) {
     // Refused before anything is written: a job needs room for its record, checkpoints and images.
-    const double minFree = config_.storage.minFreeMiB * 1048576;
-    if (std::optional<DiskSpace> space = diskSpace(config_.dataDir);
-        space && double(space->freeBytes) < minFree)
-        return refused(Submission::Outcome::DiskFull,
-                       "the data folder's disk is full: " + std::to_string(space->freeBytes >> 20) +
-                           " MiB free, under the " + Json(config_.storage.minFreeMiB).dump() +
-                           " MiB a new job needs (--min-free-mib); free space and retry");
+    if (std::optional<std::string> low =
+            lowDiskSpace(config_.dataDir, config_.storage.minFreeMiB, 0, "a new job"))
+        return refused(Submission::Outcome::DiskFull, *low);
     const int64_t queued = store_.countByState()[JobState::Queued];
     if (queued >= config_.limits.maxQueuedJobs)
         return refused(Submission::Outcome::QueueFull,

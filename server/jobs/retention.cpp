@@ -53,6 +53,7 @@ int RetentionSweeper::sweep(double now) {
     }
     try {
         removed += removeUnusedAssets(now);
+        if (removed > 0) store_.reclaimSpace();
     } catch (const std::exception& e) {
         spdlog::error("retention: {}", e.what());
     }

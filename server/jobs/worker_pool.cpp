@@ -155,8 +155,9 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
         // A full disk fails the job rather than holding a worker for as long as it stays full
         // (README, "A full disk"). The write that failed left nothing behind (a temporary file
         // and a rename; a rolled-back transaction); the job's other files go too, which frees
-        // their space for the store to record the failure.
-        files_.remove(job.id);
+        // their space for the store to record the failure. Not when the lease is lost: the files
+        // are then another attempt's.
+        if (!lease.lost) files_.remove(job.id);
         outcome.error = std::string(e.what()) + "; free space and submit the job again";
     } catch (const std::exception& e) {
         outcome.error = std::string("render failed: ") + e.what();

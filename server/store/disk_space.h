@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string>
 
 namespace caustic::server {
 
@@ -17,6 +18,12 @@ struct DiskSpace {
 /// The file system holding `path` (statvfs); nothing when it cannot be read. Cheap: one system
 /// call, fine per request.
 std::optional<DiskSpace> diskSpace(const std::filesystem::path& path);
+
+/// Why a write of `writing` bytes to the data folder `dataDir` is refused before it starts: its
+/// file system would have less than `minFreeMiB` (--min-free-mib) left. Nothing when there is room
+/// (or the space cannot be read: the write itself then finds out). `what` names the write.
+std::optional<std::string> lowDiskSpace(const std::filesystem::path& dataDir, double minFreeMiB,
+                                        uint64_t writing, const std::string& what);
 
 /// Bytes the files under `path` take on disk (allocated blocks, as `du` counts them), `path`
 /// included; a file that vanishes during the walk counts 0, and a folder that does ends the walk

@@ -131,6 +131,8 @@ public:
     virtual std::vector<std::string> removeUnusedAssets(double unusedSince) = 0;
     /// The bytes of every stored asset together.
     virtual int64_t assetBytesTotal() = 0;
+    /// Gives the space of removed rows back to the file system (retention calls it after removing).
+    virtual void reclaimSpace() = 0;
 };
 
 }  // namespace caustic::server

@@ -121,6 +121,10 @@ SqliteJobStore::SqliteJobStore(const std::filesystem::path& file) {
     // WAL with synchronous=FULL: a committed transaction survives a crash of the process or of
     // the machine.
     exec(db_, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON;");
+    // Space freed by deleted jobs and assets goes back to the file system (reclaimSpace): pages
+    // are freed incrementally (set before the first table; an older file keeps its mode), and a
+    // write-ahead log that grew with a large upload is cut back after each checkpoint.
+    exec(db_, "PRAGMA auto_vacuum=INCREMENTAL; PRAGMA journal_size_limit=16777216;");
     exec(db_, kSchema);
     createAssetSchema();
 }
@@ -379,6 +383,11 @@ std::vector<ExpiredJob> SqliteJobStore::expiredJobs(double finishedBefore, int64
     std::vector<ExpiredJob> expired;
     while (s.step()) expired.push_back({s.text(0), s.integer(1) != 0});
     return expired;
+}
+
+void SqliteJobStore::reclaimSpace() {
+    std::lock_guard lock(mutex_);
+    exec(db_, "PRAGMA incremental_vacuum; PRAGMA wal_checkpoint(TRUNCATE);");
 }
 
 }  // namespace caustic::server

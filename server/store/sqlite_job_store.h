@@ -47,6 +47,7 @@ public:
     AssetRemoval removeAsset(const std::string& id) override;
     std::vector<std::string> removeUnusedAssets(double unusedSince) override;
     int64_t assetBytesTotal() override;
+    void reclaimSpace() override;
 
 private:
     std::optional<Job> getLocked(const std::string& id);

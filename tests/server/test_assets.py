@@ -257,6 +257,9 @@ BAD_FILES = [
     ("GLB missing accessor", GLB,
      glb_with(meshes=[{"primitives": [{"attributes": {"POSITION": 7}, "indices": 1}]}]),
      "accessor 7"),
+    ("polygon of 257 corners", OBJ,
+     b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf" + b" 1 2 3" * 85 + b" 1 2\n", "257 corners"),
+    ("GLB of 65537 nodes", GLB, glb_with(nodes=[{}] * 65537), "65537 nodes"),
     ("GLB lines, not triangles", GLB,
      glb_with(meshes=[{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1,
                                        "mode": 1}]}]), "mode"),
@@ -286,6 +289,13 @@ def test_other_media_types_are_415(server, headers, data, detail):
 def test_a_multipart_form_is_415(server):
     r = server.post("/api/assets", files={"file": ("mesh.obj", TRIANGLE_OBJ, OBJ)})
     assert_problem(r, 415, detail="multipart/form-data")
+
+
+def test_the_same_bytes_in_another_format_are_refused(server):
+    asset = upload_ok(server, TRIANGLE_OBJ)
+    assert_problem(upload(server, TRIANGLE_OBJ, GLB), 422,
+                   detail=f"these bytes are stored as asset {asset['id']} in the obj format, "
+                          "not as glb")
 
 
 def test_bad_names_ids_and_bodies(server):

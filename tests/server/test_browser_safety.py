@@ -107,6 +107,36 @@ def test_cross_origin_cancel_and_delete_are_403(server, long_job):
     assert job["state"] == "running" and job["cancel_requested"] is False
 
 
+def test_an_empty_form_cannot_cancel(server, long_job):
+    # A fieldless form another site posts has no body but a form's type (and, from an old
+    # browser, no Origin): refused by its type alone.
+    for content_type in ("application/x-www-form-urlencoded", "multipart/form-data",
+                         "text/plain"):
+        r = server.post(f"/api/jobs/{long_job}/cancel", headers={"Content-Type": content_type})
+        assert_problem(r, 415, detail=f"is not taken from a form or as {content_type}")
+    job = server.job(long_job)
+    assert job["state"] == "running" and job["cancel_requested"] is False
+
+
+TRIANGLE_OBJ = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+
+
+def test_other_sites_cannot_upload_or_delete_assets(server):
+    obj = {"Content-Type": "model/obj"}
+    r = server.post("/api/assets", data=TRIANGLE_OBJ, headers={**obj, "Origin": EVIL})
+    assert_problem(r, 403, detail=f'POST from the origin "{EVIL}"')
+    r = server.post("/api/assets", data=TRIANGLE_OBJ,
+                    headers={**obj, "Host": f"evil.example:{server.port}"})
+    assert_problem(r, 403, detail='the Host "evil.example')
+    assert server.get("/api/assets").json()["assets"] == []
+    asset = server.post("/api/assets", data=TRIANGLE_OBJ, headers=obj).json()
+    r = server.delete(f"/api/assets/{asset['id']}", headers={"Origin": EVIL})
+    assert_problem(r, 403, detail=f'DELETE from the origin "{EVIL}"')
+    r = server.delete(f"/api/assets/{asset['id']}", headers={"Host": "evil.example"})
+    assert_problem(r, 403, detail='the Host "evil.example"')
+    assert server.get(f"/api/assets/{asset['id']}").status_code == 200
+
+
 def test_own_origin_and_no_origin_are_accepted(server):
     # The page served by this server (its origin is the Host it asked) and curl, which sends none.
     own = submit_ok(server, JOB, headers={"Origin": server.base})

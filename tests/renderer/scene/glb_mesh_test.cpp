@@ -308,5 +308,19 @@ TEST(MeshFileGlb, InstancesAreBoundedBeforeAnyIsRead) {
                      "together, the most a .glb may make");
 }
 
+TEST(MeshFileGlb, TheJsonChunkIsBounded) {
+    // tinygltf keeps a node in a few hundred bytes: "{}," must not become 10 GB.
+    GlbModel m = squareGlb();
+    m.gltf["nodes"] = nlohmann::json::array();
+    for (size_t i = 0; i <= kMaxGlbObjects; ++i)
+        m.gltf["nodes"].push_back(nlohmann::json::object());
+    EXPECT_GLB_ERROR(m.bytes(), "chunk 0 (JSON): 65537 nodes; at most 65536 of each are read");
+    std::string padded = squareGlb().gltf.dump() + std::string(kMaxGlbJsonBytes, ' ');
+    padded.resize((padded.size() + 3) / 4 * 4, ' ');
+    EXPECT_GLB_ERROR(testing::glbFromChunks(padded, squareGlb().bin),
+                     "chunk 0 (JSON): " + std::to_string(padded.size()) +
+                         " bytes; at most 16777216 are read (the mesh data goes in the BIN chunk)");
+}
+
 }  // namespace
 }  // namespace caustic

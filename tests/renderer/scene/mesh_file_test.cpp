@@ -1,5 +1,6 @@
 // Mesh files from memory, OBJ side (parseMeshBytes): known answers, the real meshes, and every
 // kind of bad file, each an InputError naming the line at fault. The media type table too.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -161,6 +162,37 @@ TEST(MeshFileObj, EmptyOrWithoutTriangles) {
     EXPECT_OBJ_ERROR(" \r\n\t\n", "the file is empty");
     EXPECT_OBJ_ERROR("# only a comment\n", "has no faces (no triangles)");
     EXPECT_OBJ_ERROR(kTriangle + "l 1 2 3\np 1\n", "has no faces (no triangles)");
+}
+
+TEST(MeshFileObj, PolygonCornersAreBounded) {
+    // Ear clipping is quadratic in a polygon's corners: a face of more than 256 is refused. A
+    // convex polygon of 256 corners (on a circle) makes 254 triangles.
+    std::ostringstream vertices, face;
+    face << "f";
+    for (size_t i = 0; i < kMaxObjFaceCorners + 1; ++i) {
+        const double angle = 2 * kPi * double(i) / double(kMaxObjFaceCorners + 1);
+        vertices << "v " << std::cos(angle) << ' ' << std::sin(angle) << " 0\n";
+        if (i < kMaxObjFaceCorners) face << ' ' << i + 1;
+    }
+    EXPECT_EQ(parseObjText(vertices.str() + face.str() + "\n").triangles.size(),
+              kMaxObjFaceCorners - 2);
+    EXPECT_OBJ_ERROR(vertices.str() + face.str() + " 257\n",
+                     "line 258: a face of 257 corners; at most 256 are read (split the polygon)");
+}
+
+TEST(MeshFileObj, TrianglesOverTheLimitStopTheLinePass) {
+    // Counted before tinyobjloader builds any: the line that passes the limit is named, as a
+    // MeshOverLimit (a limit, not a malformed file).
+    const std::string text = kTriangle + "f 1 2 3\nf 1 2 3 1\nf 1 2 3\n";
+    EXPECT_EQ(parseMeshBytes(text, MeshFormat::Obj, {}, "", kMeshPath, 4).triangles.size(), 4u);
+    try {
+        parseMeshBytes(text, MeshFormat::Obj, {}, "bunny.obj", kMeshPath, 2);
+        ADD_FAILURE() << "loaded past its triangle limit";
+    } catch (const MeshOverLimit& e) {
+        EXPECT_EQ(e.path(), kMeshPath);
+        EXPECT_EQ(e.message(),
+                  "bunny.obj: line 5: the faces so far make 3 triangles, over the limit of 2");
+    }
 }
 
 TEST(MeshFileObj, NoNameMeansTheMessageAlone) {
