@@ -13,6 +13,9 @@ packages=(
     openimageio-tools libembree-dev
     # Render service (libssl-dev: SHA-256 asset ids; libspdlog-dev: the access log and messages)
     libcpp-httplib-dev libsqlite3-dev libssl-dev libspdlog-dev
+    # The scale-out store: libpqxx (PostgreSQL's C++ client); the server itself for the tests'
+    # throwaway clusters (tests/support/postgres.sh)
+    libpqxx-dev postgresql
     # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a venv;
     # wrk and curl: bench/status_latency.sh)
     libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv wrk curl
