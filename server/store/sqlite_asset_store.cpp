@@ -3,6 +3,7 @@
 // written after a crash), and the jobs that hold them in job_assets.
 #include <nlohmann/json.hpp>
 
+#include "store/page.h"
 #include "store/sqlite_job_store.h"
 #include "store/sqlite_statement.h"
 
@@ -144,7 +145,7 @@ AssetPage SqliteJobStore::listAssets(int limit, std::optional<int64_t> before) {
     s.bind(1, before.value_or(INT64_MAX)).bind(2, int64_t(limit) + 1);
     AssetPage page;
     while (s.step()) page.assets.push_back(readAsset(s));
-    page.next = sqlite::trimPage(page.assets, limit);
+    page.next = trimPage(page.assets, limit);
     return page;
 }
 

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "store/page.h"
 #include "store/sqlite_statement.h"
 
 namespace caustic::server {
@@ -206,7 +207,7 @@ JobPage SqliteJobStore::list(std::optional<JobState> state, int limit,
         .bind(3, int64_t(limit) + 1);
     JobPage page;
     while (s.step()) page.jobs.push_back(readJob(s));
-    page.next = sqlite::trimPage(page.jobs, limit);
+    page.next = trimPage(page.jobs, limit);
     return page;
 }
 
