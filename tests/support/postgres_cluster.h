@@ -67,6 +67,17 @@ public:
         pqxx::nontransaction(*admin_).exec("DROP DATABASE IF EXISTS " + name + " WITH (FORCE)");
     }
 
+    /// Restarts the server on the same port: `fast` (a clean shutdown) or `immediate` (as a crash);
+    /// every open connection breaks.
+    void restart(const std::string& mode) {
+        admin_.reset();
+        const std::string command =
+            "bash '" + script() + "' restart '" + folder_.string() + "' " + mode;
+        if (std::system(command.c_str()) != 0)
+            throw std::runtime_error("the test PostgreSQL did not restart: " + command);
+        admin_ = std::make_unique<pqxx::connection>(base_ + "postgres");
+    }
+
 private:
     PostgresCluster()
         : folder_(std::filesystem::temp_directory_path() /
