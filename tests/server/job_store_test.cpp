@@ -5,6 +5,7 @@
 // removes, assets.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -279,6 +280,34 @@ TYPED_TEST(JobStoreTest, SurvivesReopening) {
     EXPECT_EQ(back.passesDone, 1);
     EXPECT_DOUBLE_EQ(back.relativeError, 0.3);
     EXPECT_EQ(back.convergence, (Json::array({Json{{"pass", 1}}})));
+}
+
+TYPED_TEST(JobStoreTest, KeepsScenesAndEstimatesBitForBit) {
+    // A job renders what was submitted, on whichever node: the scene's numbers come back exactly
+    // (a negative zero, the last bit of a double, a huge and a tiny one, an integer kept so).
+    Job j;
+    j.id = "a";
+    j.scene =
+        Json{{"numbers", {-0.0, 0.1, 1.0 / 3.0, 1e300, 5e-324, 4, 4.0}}, {"text", "\u00e9 \""}};
+    j.settings = Json{{"seed", 18446744073709551615ull}};
+    this->store_->insert(j);
+    Job back = *this->store_->get("a");
+    EXPECT_EQ(back.scene.dump(), j.scene.dump());
+    EXPECT_EQ(back.settings.dump(), j.settings.dump());
+    // No estimate before two passes: NaN, as the film reports it.
+    EXPECT_TRUE(std::isnan(back.relativeError));
+    EXPECT_DOUBLE_EQ(back.etaSeconds, -1);
+    EXPECT_EQ(back.convergence, Json::array());
+    Job running = *this->store_->claim("w", 1000, kLease, 3, 100);
+    ASSERT_TRUE(this->store_->recordPass("a", running.attempt, 0.25, 1, 4, std::nan(""), -1,
+                                         Json{{"pass", 1}, {"relative_error", nullptr}}));
+    EXPECT_TRUE(std::isnan(this->store_->get("a")->relativeError));
+    ASSERT_TRUE(this->store_->recordPass("a", running.attempt, 0.5, 2, 4, 1.0 / 3.0, 7,
+                                         Json{{"pass", 2}, {"relative_error", 1.0 / 3.0}}));
+    back = *this->store_->get("a");
+    EXPECT_EQ(back.relativeError, 1.0 / 3.0);
+    EXPECT_EQ(back.convergence, (Json::array({Json{{"pass", 1}, {"relative_error", nullptr}},
+                                              Json{{"pass", 2}, {"relative_error", 1.0 / 3.0}}})));
 }
 
 TYPED_TEST(JobStoreTest, RetentionSelectsFinishedJobsPastTheirAgeOrBeyondTheCount) {
