@@ -430,6 +430,17 @@ TYPED_TEST(JobStoreTest, RemovesAssetsUnusedSinceACutOff) {
     EXPECT_EQ(this->store_->assetBytesTotal(), 2);
 }
 
+TYPED_TEST(JobStoreTest, ReclaimingSpaceKeepsWhatIsStored) {
+    this->upload("gone", std::string(100000, 'g'));
+    this->upload("kept", std::string(1000, 'k'));
+    this->submit("job", 100, {"kept"});
+    ASSERT_EQ(this->store_->removeAsset("gone"), AssetRemoval::Removed);
+    this->store_->reclaimSpace();
+    EXPECT_EQ(*this->store_->assetBytes("kept"), std::string(1000, 'k'));
+    EXPECT_EQ(this->store_->get("job")->assets, (std::vector<std::string>{"kept"}));
+    EXPECT_EQ(this->store_->assetBytesTotal(), 1000);
+}
+
 TYPED_TEST(JobStoreTest, ListsAssetsNewestFirstInPagesAndSurvivesReopening) {
     const std::vector<std::string> ids{"a0", "a1", "a2", "a3", "a4"};
     for (size_t i = 0; i < ids.size(); ++i) this->upload(ids[i], std::string(i + 1, 'x'));
