@@ -172,7 +172,10 @@ def test_renders_scenes_with_obj_and_glb_assets(server):
     quads = stored(server, QUAD_GLB, GLB)
     for shapes in ([asset_shape(teapot["id"], scale=0.2)],
                    [asset_shape(quads["id"], scale=0.2, translate=(-0.3, -0.3, 0))],
-                   [asset_shape(teapot["id"], scale=0.1), asset_shape(quads["id"], scale=0.1)]):
+                   [asset_shape(teapot["id"], scale=0.1), asset_shape(quads["id"], scale=0.1)],
+                   # One asset placed twice: its bytes are read once, each placement built.
+                   [asset_shape(teapot["id"], scale=0.1),
+                    asset_shape(teapot["id"], scale=0.1, translate=(0.4, 0, 0))]):
         job = submit_ok(server, {"scene": asset_scene(*shapes), "settings": {"spp": 2}})
         end = run_to_end(server, job["id"])
         assert end["state"] == "succeeded", end
