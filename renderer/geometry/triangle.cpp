@@ -41,6 +41,24 @@ std::optional<TriangleHit> decideNearOrigin(const Ray& ray, float tMax, const Ve
     return hit;
 }
 
+// The edge test in double for edge functions the float test cannot sign: a ray through an edge or
+// a vertex (pbrt-v4 recomputes those in double too), or a tiny triangle. Each product of two floats
+// is exact in double, so each edge function is rounded once and its sign is right: a ray exactly
+// on a shared edge hits one of the two triangles, and none outside. t comes from the plane.
+std::optional<TriangleHit> intersectInDouble(const Ray& ray, float tMax, const Vec3& p0t,
+                                             const Vec3& p1t, const Vec3& p2t, const Vec3& p0,
+                                             const Vec3& p1, const Vec3& p2) {
+    auto edge = [](const Vec3& a, const Vec3& b) {
+        return double(a.x) * double(b.y) - double(a.y) * double(b.x);
+    };
+    double e0 = edge(p1t, p2t), e1 = edge(p2t, p0t), e2 = edge(p0t, p1t);
+    if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return std::nullopt;
+    double det = e0 + e1 + e2;
+    if (det == 0.0) return std::nullopt;
+    TriangleHit hit{float(e0 / det), float(e1 / det), float(e2 / det), 0.0f};
+    return decideNearOrigin(ray, tMax, p0, p1, p2, hit);
+}
+
 }  // namespace
 
 WatertightRay::WatertightRay(const Ray& r) : ray(r) {
@@ -76,19 +94,17 @@ std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax
     p2t.x += sx * p2t.z;
     p2t.y += sy * p2t.z;
 
-    // Edge functions, recomputed in double where a float one is exactly zero.
+    // Edge functions. Where one is zero or below the normal floats, its float value may have
+    // underflowed and its sign be wrong (a ray in the plane of a triangle 1e-45 thick "hit" it
+    // outside its edges): decide in double, where the products of floats are exact.
     float e0 = differenceOfProducts(p1t.x, p2t.y, p1t.y, p2t.x);
     float e1 = differenceOfProducts(p2t.x, p0t.y, p2t.y, p0t.x);
     float e2 = differenceOfProducts(p0t.x, p1t.y, p0t.y, p1t.x);
-    if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) {
-        e0 = static_cast<float>(double(p1t.x) * double(p2t.y) - double(p1t.y) * double(p2t.x));
-        e1 = static_cast<float>(double(p2t.x) * double(p0t.y) - double(p2t.y) * double(p0t.x));
-        e2 = static_cast<float>(double(p0t.x) * double(p1t.y) - double(p0t.y) * double(p1t.x));
-    }
+    constexpr float kSmallest = std::numeric_limits<float>::min();
+    if (std::abs(e0) < kSmallest || std::abs(e1) < kSmallest || std::abs(e2) < kSmallest)
+        return intersectInDouble(wr.ray, tMax, p0t, p1t, p2t, p0, p1, p2);
     if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return std::nullopt;
     float det = e0 + e1 + e2;
-    if (det == 0.0f) return std::nullopt;
-
     // Scaled distance, compared against the range without dividing.
     p0t.z *= sz;
     p1t.z *= sz;

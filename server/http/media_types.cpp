@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "http/ascii.h"
+#include "scene/mesh_file.h"
 
 namespace caustic::server {
 namespace {
@@ -19,7 +20,9 @@ struct BodyRoute {
 // Every route that takes a body; every other request takes none (cancel, DELETE, GET).
 const std::vector<BodyRoute> kBodyRoutes = {
     {.method = "POST", .path = "/api/jobs", .mediaTypes = {"application/json"}},
-    {.method = "POST", .path = "/api/assets", .mediaTypes = {"model/obj", "model/gltf-binary"}},
+    {.method = "POST",
+     .path = "/api/assets",
+     .mediaTypes = {mediaTypeOf(MeshFormat::Obj), mediaTypeOf(MeshFormat::Glb)}},
 };
 
 // The media type of a Content-Type value, without parameters or spaces, in lower case

@@ -4,6 +4,8 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <map>
+#include <memory>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -197,7 +199,9 @@ AssetRemoval AssetService::remove(const std::string& id) {
 }
 
 MeshAssetResolver storedAssets(JobStore& store) {
-    return [&store](const std::string& id, const std::string& path, bool needBytes) {
+    // A scene may place one asset many times: its bytes are read from the store once per scene.
+    auto read = std::make_shared<std::map<std::string, std::shared_ptr<const std::string>>>();
+    return [&store, read](const std::string& id, const std::string& path, bool needBytes) {
         auto unknown = [&] {
             return InputError(path, "no asset " + id + "; upload the file with POST /api/assets");
         };
@@ -208,8 +212,10 @@ MeshAssetResolver storedAssets(JobStore& store) {
         asset.counts.vertices = uint64_t(stored->vertices);
         asset.counts.triangles = uint64_t(stored->triangles);
         if (needBytes) {
-            asset.bytes = store.assetBytes(id);
-            if (!asset.bytes) throw unknown();
+            std::shared_ptr<const std::string>& bytes = (*read)[id];
+            if (!bytes) bytes = store.assetBytes(id);
+            if (!bytes) throw unknown();
+            asset.bytes = bytes;
         }
         return asset;
     };

@@ -84,7 +84,8 @@ bool isAssetId(std::string_view id);
 std::string sha256Hex(std::string_view bytes);
 
 /// Resolves the "asset" shapes of a scene through `store` (SceneOptions::resolveMeshAsset): an
-/// unknown id is an InputError at the shape's "asset" path. Reads the bytes only when asked.
+/// unknown id is an InputError at the shape's "asset" path. Reads the bytes only when asked,
+/// each asset's once: make one resolver per scene load.
 MeshAssetResolver storedAssets(JobStore& store);
 
 }  // namespace caustic::server

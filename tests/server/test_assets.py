@@ -172,7 +172,10 @@ def test_renders_scenes_with_obj_and_glb_assets(server):
     quads = stored(server, QUAD_GLB, GLB)
     for shapes in ([asset_shape(teapot["id"], scale=0.2)],
                    [asset_shape(quads["id"], scale=0.2, translate=(-0.3, -0.3, 0))],
-                   [asset_shape(teapot["id"], scale=0.1), asset_shape(quads["id"], scale=0.1)]):
+                   [asset_shape(teapot["id"], scale=0.1), asset_shape(quads["id"], scale=0.1)],
+                   # One asset placed twice: its bytes are read once, each placement built.
+                   [asset_shape(teapot["id"], scale=0.1),
+                    asset_shape(teapot["id"], scale=0.1, translate=(0.4, 0, 0))]):
         job = submit_ok(server, {"scene": asset_scene(*shapes), "settings": {"spp": 2}})
         end = run_to_end(server, job["id"])
         assert end["state"] == "succeeded", end
@@ -377,7 +380,14 @@ def test_uploads_over_max_uploads_in_flight_are_429(start_server):
             if r.status_code == 429:
                 break
             assert r.status_code == 201, r.text
-            assert time.monotonic() < end, "the slow upload never held its place\n" + server.log()
+            if time.monotonic() > end:
+                slow.settimeout(0.5)  # what the server told the slow upload, if anything
+                try:
+                    told = slow.recv(65536)
+                except OSError as e:
+                    told = repr(e).encode()
+                pytest.fail(f"the slow upload never held its place; it was told {told!r}\n"
+                            + server.log())
             time.sleep(0.02)
         assert_problem(r, 429, detail="--max-uploads")
         assert r.headers["Retry-After"] == "5"

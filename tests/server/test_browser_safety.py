@@ -286,28 +286,44 @@ def logged(read, count, deadline=10):
     return lines
 
 
+def settled(read, quiet=0.5):
+    """How many access lines read() has once no new one has come for `quiet` seconds."""
+    count = len(logged(read, 1))
+    while True:
+        time.sleep(quiet)
+        if (now := len(access_lines(read()))) == count:
+            return count
+        count = now
+
+
 def test_access_log_has_a_line_per_request(start_server, tmp_path):
     log = tmp_path / "access.log"
     server = start_server("--threads", "2", "--access-log", str(log))
     plain = {"Accept-Encoding": "identity"}  # the bytes logged are the bytes sent
-    responses = [
-        server.get("/api/jobs?limit=5&state=queued", headers=plain),
-        server.get("/healthz", headers=plain),
-        server.get("/index.html", headers=plain),
-        server.get("/no/such/thing", headers=plain),
-        server.post("/api/jobs", data="{}", headers={"Content-Type": "text/plain", **plain}),
-        server.get("/api/jobs", headers={"Host": "evil.example", **plain}),
+    before = settled(log.read_text)  # the /healthz requests of start(), waiting for the server
+    requests = [
+        lambda: server.get("/api/jobs?limit=5&state=queued", headers=plain),
+        lambda: server.get("/healthz", headers=plain),
+        lambda: server.get("/index.html", headers=plain),
+        lambda: server.get("/no/such/thing", headers=plain),
+        lambda: server.post("/api/jobs", data="{}",
+                            headers={"Content-Type": "text/plain", **plain}),
+        lambda: server.get("/api/jobs", headers={"Host": "evil.example", **plain}),
     ]
+    responses = []
+    for send in requests:
+        # Each on a connection of its own, served by either of two threads: a line is written
+        # after its response is sent, so wait for it before the next request to keep the order.
+        responses.append(send())
+        logged(log.read_text, before + len(responses))
     assert [r.status_code for r in responses] == [200, 200, 200, 404, 415, 403]
     job = submit_ok(server, JOB)
+    logged(log.read_text, before + len(responses) + 1)
     run_to_end(server, job["id"])  # an event stream, logged when it ends
     expected = [(r.request.method, r.request.path_url.split("?")[0], r.status_code)
                 for r in responses]
     expected += [("POST", "/api/jobs", 202), ("GET", f"/api/jobs/{job['id']}/events", 200)]
-    lines = logged(log.read_text, len(expected) + 1)
-    # Before them, the /healthz requests of start(), waiting for the server.
-    while lines and lines[0]["path"] == "/healthz" and len(lines) > len(expected):
-        lines.pop(0)
+    lines = logged(log.read_text, before + len(expected))[before:]
     assert [(l["method"], l["path"], int(l["status"])) for l in lines] == expected, lines
     for line, r in zip(lines, responses):
         assert line["peer"].startswith("127.0.0.1:"), line

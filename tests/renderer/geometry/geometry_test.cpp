@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "accel/bruteforce.h"
 #include "core/rng.h"
 #include "core/sampling.h"
@@ -70,6 +72,20 @@ TEST(Triangle, ZeroAreaTrianglesAreNeverHit) {
     Geometry g;
     g.addTriangles({Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(2, 2, 0)}, {glm::uvec3(0, 1, 2)}, 0);
     EXPECT_FALSE(g.intersect(0, Ray{Vec3(1, 1, 1), Vec3(0, 0, -1)}, kInfinity));
+}
+
+// Found by tests/fuzz/obj_fuzzer (tests/fuzz/obj/underflow-sliver.obj): a triangle one vertex of
+// which sits 1.4e-45 (the least float) off the plane z = 0. A ray in that plane, beside the
+// triangle, saw its edge functions underflow to (0, 0, 2.8e-45) in float and hit it; in double they
+// are (-7e-46, 0, 2.1e-45): outside. The kd-tree, culling by boxes, rightly missed.
+TEST(Triangle, EdgeFunctionsThatUnderflowAreDecidedInDouble) {
+    Geometry g;
+    const float least = std::numeric_limits<float>::denorm_min();
+    g.addTriangles({Vec3(-1, 0.5f, 0), Vec3(0, 1, least), Vec3(0, 0, 0)}, {glm::uvec3(0, 1, 2)}, 0);
+    EXPECT_FALSE(g.intersect(0, Ray{Vec3(0.5f, 0.5f, 0), Vec3(0, -1, 0)}, kInfinity));
+    // Rays through its vertex and inside it, also in the plane, still hit.
+    EXPECT_TRUE(g.intersect(0, Ray{Vec3(0, 0.5f, 0), Vec3(0, -1, 0)}, kInfinity));
+    EXPECT_TRUE(g.intersect(0, Ray{Vec3(-0.25f, 0.5f, 0), Vec3(0, -1, 0)}, kInfinity));
 }
 
 TEST(Geometry, UniformSamplesLieOnTheSurfaceWithDensityOneOverArea) {
