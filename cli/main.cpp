@@ -1,11 +1,13 @@
-// The caustic command line: one CLI11 app whose subcommands render, serve and list settings; each
-// command module adds its subcommand and runs it once the whole line has parsed.
+// The caustic command line: one CLI11 app whose subcommands render, serve, run scale-out workers
+// and list settings; each command module adds its subcommand and runs it once the whole line has
+// parsed.
 #include <iostream>
 
 #include "command_line.h"
 #include "render/settings.h"
 #include "render_command.h"
 #include "serve_command.h"
+#include "worker_command.h"
 
 int main(int argc, char** argv) {
     CLI::App app("Caustic: a physically based renderer and render service.", "caustic");
@@ -16,6 +18,8 @@ int main(int argc, char** argv) {
     CLI::App* render = caustic::addRenderCommand(app, renderOptions);
     caustic::server::ServerConfig serveConfig;
     CLI::App* serve = caustic::addServeCommand(app, serveConfig);
+    caustic::server::ServerConfig workerConfig;
+    CLI::App* worker = caustic::addWorkerCommand(app, workerConfig);
     CLI::App* settings = app.add_subcommand(
         "settings", "Prints every render setting as JSON: type, default, range, unit, meaning.");
 
@@ -23,6 +27,7 @@ int main(int argc, char** argv) {
         return exitCode;
     if (*render) return caustic::runRender(renderOptions);
     if (*serve) return caustic::runServe(serveConfig);
+    if (*worker) return caustic::runWorker(workerConfig);
     if (*settings) {
         std::cout << caustic::settingsSchemaJson().dump(2) << "\n";
         return 0;

@@ -12,6 +12,7 @@
 #include "http/same_origin.h"
 #include "logging.h"
 #include "service.h"
+#include "service_options.h"
 
 namespace caustic {
 namespace {
@@ -55,21 +56,6 @@ void addLimits(CLI::App& limits, server::ServiceLimits& l) {
                    "Uploads being read and checked at once (429 above)");
 }
 
-void addWorkOptions(CLI::App& serve, ServerConfig& c) {
-    cli::addNumber(serve, "--workers", c.workers, 1, 64, "Jobs rendered at once");
-    cli::addNumber(serve, "--threads", c.renderThreads, 0, 1024,
-                   "Threads per render, 0 for every core");
-    cli::addNumber(serve, "--lease-seconds", c.leaseSeconds, 0.5, 3600,
-                   "A worker's lease on its job, seconds");
-    cli::addNumber(serve, "--max-stalled-leases", c.maxStalledLeases, 1, 1000,
-                   "Leases in a row that may expire before a pass finishes before the job fails; "
-                   "a server killed or stopped from outside does not count, one that dies of a "
-                   "fault does");
-    cli::addNumber(serve, "--max-attempts", c.maxAttempts, 1, 1e6,
-                   "Starts of one job, whatever stopped them, before it fails (guards against "
-                   "out-of-memory kills)");
-}
-
 void addStorageOptions(CLI::App& serve, server::StoragePolicy& s) {
     cli::addNumber(serve, "--keep-days", s.keepDays, 0, 1e5,
                    "Finished jobs and their files are removed this many days after they finished "
@@ -103,10 +89,7 @@ void addBrowserAndLogOptions(CLI::App& serve, ServerConfig& c) {
                                  value + "\"";
             },
             "ORIGIN"));
-    serve.add_option("--log-level", c.logLevel, "Messages and access log at this level and above")
-        ->check(CLI::IsMember(
-            std::vector<std::string>(std::begin(server::kLogLevels), std::end(server::kLogLevels))))
-        ->capture_default_str();
+    cli::addLogLevelOption(serve, c);
     serve
         .add_option("--access-log", c.accessLog,
                     "File for the access log, one line per request, \"-\" for stdout "
@@ -136,12 +119,18 @@ CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
     addFolder(*serve, "--scenes", c.scenesDir, "Example scenes, submittable by name");
     addFolder(*serve, "--web", c.webDir, "Static files of the web page");
     addFolder(*serve, "--docs", c.docsDir, "Documentation served at /docs/ (the scene format)");
-    addWorkOptions(*serve, c);
+    cli::addStoreOptions(*serve, c);
+    cli::addWorkOptions(*serve, c, 0);
     addStorageOptions(*serve, c.storage);
     addBrowserAndLogOptions(*serve, c);
     addLimits(*serve->add_option_group("Limits (a job over one gets 422 naming the field)"),
               c.limits);
     serve->callback([&c] {
+        if (c.workers == 0 && c.store.empty())
+            throw CLI::ValidationError(
+                "--workers",
+                "0 workers render nothing with the embedded SQLite store: give at "
+                "least 1, or --store postgresql://... with `caustic worker` processes");
         if (!server::isLoopbackHost(c.host) && c.token.empty())
             throw CLI::ValidationError(
                 "--host", "listening on " + c.host +
@@ -152,14 +141,7 @@ CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
 }
 
 int runServe(const ServerConfig& config) {
-    // SIGINT and SIGTERM are taken by one thread with sigwait, not by a handler: stopping the
-    // service is not async-signal-safe. Block them before any thread starts.
-    sigset_t stopSignals;
-    sigemptyset(&stopSignals);
-    sigaddset(&stopSignals, SIGINT);
-    sigaddset(&stopSignals, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
-    signal(SIGPIPE, SIG_IGN);
+    cli::StopSignals stopSignals;  // before any thread starts
     try {
         server::setUpLogging(config.logLevel, config.accessLog);
     } catch (const std::exception& e) {
@@ -172,17 +154,18 @@ int runServe(const ServerConfig& config) {
         std::string host =
             config.host.find(':') != std::string::npos ? "[" + config.host + "]" : config.host;
         // Printed on stdout, not logged: scripts and tests read the address from this line.
-        std::cout << "caustic: serving on http://" << host << ":" << port << "/ (data "
-                  << config.dataDir.string() << "; Ctrl-C stops)" << std::endl;
+        const std::string store = config.store.empty()
+                                      ? "data " + config.dataDir.string()
+                                      : "store " + cli::redactedStore(config.store);
+        std::cout << "caustic: serving on http://" << host << ":" << port << "/ (" << store
+                  << "; Ctrl-C stops)" << std::endl;
         std::thread watcher([&] {
-            int sig = 0;
-            sigwait(&stopSignals, &sig);
-            spdlog::info("stopping (signal {})", sig);
+            spdlog::info("stopping (signal {})", stopSignals.wait());
             service.stop();
         });
         service.serve();
         // serve() returned without a signal (it could not listen): release the watcher.
-        pthread_kill(watcher.native_handle(), SIGTERM);
+        cli::StopSignals::release(watcher.native_handle());
         watcher.join();
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());

@@ -56,6 +56,14 @@ struct ServerConfig {
     double leaseSeconds = 10;
     int maxStalledLeases = 3;
     int maxAttempts = 100;  ///< Starts of one job, whatever stopped them.
+    /// The job store: empty for SQLite in the data folder, or a PostgreSQL connection string
+    /// (postgresql://...) shared by API and worker processes anywhere (store/task.h).
+    std::string store;
+    // Scale-out (PostgreSQL only).
+    int taskPasses = 8;          ///< Passes per task of a job that sets no task_passes.
+    int blockAfterFailures = 2;  ///< A worker's failed tasks of a job before it skips the job.
+    int failAfterWorkers = 3;    ///< Workers that failed a job's tasks before the job fails.
+    bool failEveryTask = false;  ///< Test only: this process's workers fail every task.
     ServiceLimits limits;
     StoragePolicy storage;
 };

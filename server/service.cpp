@@ -16,7 +16,12 @@
 
 #include "http/routes.h"
 #include "store/sqlite_job_store.h"
-
+#if CAUSTIC_HAS_POSTGRES
+#include "farm/task_workers.h"
+#include "store/postgres_job_files.h"
+#include "store/postgres_job_store.h"
+#include "store/postgres_listener.h"
+#endif
 namespace caustic::server {
 namespace fs = std::filesystem;
 
@@ -46,8 +51,49 @@ extern "C" void recordFault(int sig) {
 
 }  // namespace
 
-RenderService::RenderService(ServerConfig config)
-    : config_(std::move(config)), files_(config_.dataDir) {
+/// A store shared with worker processes (store/task.h): the task workers of this process and the
+/// listener that follows changes made anywhere.
+struct Farm {
+#if CAUSTIC_HAS_POSTGRES
+    PostgresJobStore* store = nullptr;
+    std::unique_ptr<PostgresListener> listener;
+    std::unique_ptr<TaskWorkers> workers;
+#endif
+};
+
+bool isPostgresStore(const std::string& store) {
+    return store.starts_with("postgresql://") || store.starts_with("postgres://");
+}
+
+RenderService::RenderService(ServerConfig config) : config_(std::move(config)) {
+    owner_ = "pid" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}());
+    if (isPostgresStore(config_.store))
+        openSharedStore();
+    else
+        openEmbeddedStore();
+#if CAUSTIC_HAS_POSTGRES
+    if (farm_) farm_->workers = std::make_unique<TaskWorkers>(config_, *farm_->store, counters_);
+#endif
+    if (!farm_)
+        workers_ =
+            std::make_unique<WorkerPool>(config_, *store_, *files_, events_, counters_, owner_);
+    retention_ = std::make_unique<RetentionSweeper>(config_, *store_, *files_, events_, storage_);
+    jobs_ = std::make_unique<JobService>(config_, *store_, *files_, events_, [this] { wake(); });
+    assets_ = std::make_unique<AssetService>(config_, *store_);
+    http_ = std::make_unique<httplib::Server>();
+    // No Nagle delay: a response goes out in more than one write (headers, body), and on a
+    // kept-alive connection the second waited for the client's delayed ACK, 40 ms a request.
+    // Set before bind(): accepted sockets inherit it from the listening one.
+    http_->set_tcp_nodelay(true);
+    // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second server on a
+    // port in use starts without an error and takes a share of its connections.
+    http_->set_socket_options([](socket_t sock) {
+        int yes = 1;
+        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
+}
+
+void RenderService::openEmbeddedStore() {
     fs::create_directories(config_.dataDir);
     // One service per data folder: the embedded store and the job files are not shared.
     const fs::path lock = config_.dataDir / "caustic.lock";
@@ -56,7 +102,7 @@ RenderService::RenderService(ServerConfig config)
         throw std::runtime_error("the data folder " + config_.dataDir.string() +
                                  " is in use by another caustic serve");
     store_ = std::make_unique<SqliteJobStore>(config_.dataDir / "jobs.sqlite3");
-    owner_ = "pid" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}());
+    auto files = std::make_unique<FolderJobFiles>(config_.dataDir);
     // The lock proves that whoever held the running jobs' leases is gone: requeue them now. Only
     // a process that died of a fault (its fault record says so) counts against the jobs it was
     // rendering, towards failing a job that crashes whoever renders it; one killed from outside
@@ -76,7 +122,8 @@ RenderService::RenderService(ServerConfig config)
             "{} job(s) were running when the last server stopped; they resume from their last "
             "finished pass",
             orphaned);
-    files_.removeTemporaryFiles();
+    files->removeTemporaryFiles();
+    files_ = std::move(files);
     // This process's fault record, empty unless it dies of a fault. Handlers are installed only
     // over the default action (a sanitizer's or debugger's stay).
     faultFd_ =
@@ -97,20 +144,27 @@ RenderService::RenderService(ServerConfig config)
             ::sigaction(sig, &action, nullptr);
         }
     }
-    workers_ = std::make_unique<WorkerPool>(config_, *store_, files_, events_, counters_, owner_);
-    retention_ = std::make_unique<RetentionSweeper>(config_, *store_, files_, events_, storage_);
-    jobs_ = std::make_unique<JobService>(config_, *store_, files_, events_,
-                                         [this] { workers_->wake(); });
-    assets_ = std::make_unique<AssetService>(config_, *store_);
-    http_ = std::make_unique<httplib::Server>();
-    // No Nagle delay: a response goes out in more than one write (headers, body), and on a
-    // kept-alive connection the second waited for the client's delayed ACK, 40 ms a request.
-    // Set before bind(): accepted sockets inherit it from the listening one.
-    http_->set_tcp_nodelay(true);
+}
+
+void RenderService::openSharedStore() {
+#if CAUSTIC_HAS_POSTGRES
+    // Nothing here is shared through the data folder: leases expire by time (other processes'
+    // are live), files live in the store, and a crash is a lease that expires.
+    auto store = std::make_unique<PostgresJobStore>(config_.store);
+    files_ = std::make_unique<PostgresJobFiles>(*store);
+    farm_ = std::make_unique<Farm>();
+    farm_->store = store.get();
+    store_ = std::move(store);
+    farm_->listener =
+        std::make_unique<PostgresListener>(config_.store, [this] { events_.notify(); });
+#else
+    throw std::runtime_error("this build has no PostgreSQL store (CAUSTIC_POSTGRES=OFF)");
+#endif
 }
 
 RenderService::~RenderService() {
     stop();
+    farm_.reset();  // its threads use the events and counters
     if (faultFd_ >= 0) {
         int mine = faultFd_;
         faultFd.compare_exchange_strong(mine, -1);
@@ -137,13 +191,32 @@ void RenderService::serve() {
     http_->set_keep_alive_timeout(5);
     http_->set_read_timeout(10);
     http_->set_write_timeout(10);
-    ApiContext api{config_, *jobs_, counters_, eventStreams_, stopping_, storage_, *assets_};
+    FarmStore* farmStore = nullptr;
+#if CAUSTIC_HAS_POSTGRES
+    if (farm_) farmStore = farm_->store;
+#endif
+    ApiContext api{config_,   *jobs_,   counters_, eventStreams_,
+                   stopping_, storage_, *assets_,  farmStore};
     registerRoutes(*http_, api);
-    workers_->start();
+    startWorkers(true);
     retention_->start();
     http_->listen_after_bind();
     retention_->stop();
-    workers_->stop();
+    startWorkers(false);
+}
+
+void RenderService::startWorkers(bool start) {
+    if (workers_) start ? workers_->start() : workers_->stop();
+#if CAUSTIC_HAS_POSTGRES
+    if (farm_) start ? farm_->workers->start() : farm_->workers->stop();
+#endif
+}
+
+void RenderService::wake() {
+    if (workers_) workers_->wake();
+#if CAUSTIC_HAS_POSTGRES
+    if (farm_) farm_->workers->wake();
+#endif
 }
 
 void RenderService::stop() {

@@ -21,10 +21,15 @@ class Server;
 
 namespace caustic::server {
 
+struct Farm;
+/// Whether `store` (ServerConfig::store) names a PostgreSQL store.
+bool isPostgresStore(const std::string& store);
+
 class RenderService {
 public:
-    /// Opens the data folder (locking it: one service per folder) and its store. Throws
-    /// std::runtime_error when it cannot.
+    /// Opens the data folder (locking it: one service per folder) and its store, or, with
+    /// config.store a PostgreSQL connection string, connects to the shared store (any number of
+    /// API and worker processes may). Throws std::runtime_error when it cannot.
     explicit RenderService(ServerConfig config);
     ~RenderService();
 
@@ -39,8 +44,19 @@ private:
     ServerConfig config_;
     int lockFd_ = -1;
     int faultFd_ = -1;  ///< The fault record, written only when the process dies of a fault.
+    /// Opens the embedded store: the data folder's lock, leases left by the last process, the
+    /// fault record.
+    void openEmbeddedStore();
+    /// Connects to a PostgreSQL store shared with other processes.
+    void openSharedStore();
+    /// Starts (or stops) this process's workers, whichever kind the store has.
+    void startWorkers(bool start);
+    /// A job was queued: wake an idle worker of this process.
+    void wake();
+
     std::unique_ptr<JobStore> store_;
-    JobFiles files_;
+    std::unique_ptr<JobFiles> files_;
+    std::unique_ptr<Farm> farm_;  ///< With a PostgreSQL store: task workers, the listener.
     JobEvents events_;
     RenderCounters counters_;
     std::string owner_;

@@ -4,9 +4,11 @@
 
 #include <atomic>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <fstream>
 #include <stdexcept>
 
 namespace caustic {
@@ -18,28 +20,25 @@ float srgbEncode(float v) {
     return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
-void writeImage(const fs::path& file, const RgbImage& image, double exposure) {
-    std::string ext = file.extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".exr" && ext != ".png")
-        throw std::runtime_error("unsupported image type \"" + ext + "\" for " + file.string() +
-                                 " (use .png or .exr)");
-    // A name of its own per call, so that two writers of one file (two attempts of a server job)
-    // never write into each other's temporary file; the renames are atomic.
-    static std::atomic<uint64_t> counter{0};
-    fs::path tmp = file;
-    tmp += ".tmp" + std::to_string(::getpid()) + "." + std::to_string(counter++);
-    auto out = OIIO::ImageOutput::create(ext.substr(1));
-    if (!out) throw std::runtime_error("OpenImageIO cannot write " + ext + ": " + OIIO::geterror());
+std::string encodeImage(const RgbImage& image, const std::string& format, double exposure) {
+    if (format != "exr" && format != "png")
+        throw std::runtime_error("unsupported image type \"" + format + "\" (use png or exr)");
+    auto out = OIIO::ImageOutput::create(format);
+    if (!out)
+        throw std::runtime_error("OpenImageIO cannot write " + format + ": " + OIIO::geterror());
+    // Written to memory through an I/O proxy (OpenImageIO 2.2 on).
+    OIIO::Filesystem::IOVecOutput memory;
+    void* proxy = &memory;
     bool ok;
-    if (ext == ".exr") {
+    if (format == "exr") {
         OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
         spec.attribute("compression", "zip");
         // OpenImageIO stamps an EXR with the time of writing (capDate) unless DateTime is given:
         // an empty one keeps the file a function of its pixels, so that equal renders give equal
         // files wherever they were written.
         spec.attribute("DateTime", "");
-        ok = out->open(tmp.string(), spec) &&
+        spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+        ok = out->open("image.exr", spec) &&
              out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
     } else {
         auto scale = static_cast<float>(std::exp2(exposure));
@@ -49,13 +48,36 @@ void writeImage(const fs::path& file, const RgbImage& image, double exposure) {
                 std::lround(255.0f * srgbEncode(scale * image.pixels[i])));
         OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
         spec.attribute("oiio:ColorSpace", "sRGB");
-        ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+        spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+        ok = out->open("image.png", spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
     }
     ok = out->close() && ok;
-    if (!ok) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw std::runtime_error("cannot write " + file.string() + ": " + out->geterror());
+    if (!ok) throw std::runtime_error("cannot encode a " + format + " image: " + out->geterror());
+    const std::vector<unsigned char>& bytes = memory.buffer();
+    return std::string(bytes.begin(), bytes.end());
+}
+
+void writeImage(const fs::path& file, const RgbImage& image, double exposure) {
+    std::string ext = file.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".exr" && ext != ".png")
+        throw std::runtime_error("unsupported image type \"" + ext + "\" for " + file.string() +
+                                 " (use .png or .exr)");
+    const std::string bytes = encodeImage(image, ext.substr(1), exposure);
+    // A name of its own per call, so that two writers of one file (two attempts of a server job)
+    // never write into each other's temporary file; the renames are atomic.
+    static std::atomic<uint64_t> counter{0};
+    fs::path tmp = file;
+    tmp += ".tmp" + std::to_string(::getpid()) + "." + std::to_string(counter++);
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+        out.close();
+        if (!out) {
+            std::error_code ec;
+            fs::remove(tmp, ec);
+            throw std::runtime_error("cannot write " + file.string());
+        }
     }
     fs::rename(tmp, file);
 }

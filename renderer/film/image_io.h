@@ -16,6 +16,11 @@ struct RgbImage {
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
 float srgbEncode(float linear);
 
+/// The bytes of `image` as a file of `format`, "exr" (linear, 32-bit float) or "png" (scaled by
+/// 2^exposure, clamped, sRGB-encoded, 8-bit): for images kept in a database. Equal images give
+/// equal bytes. Throws std::runtime_error for another format or when OpenImageIO fails.
+std::string encodeImage(const RgbImage& image, const std::string& format, double exposure = 0.0);
+
 /// Writes `image` to `file`, choosing the format by extension: ".exr" (linear, 32-bit float) or
 /// ".png" (scaled by 2^exposure, clamped, sRGB-encoded, 8-bit). Writes a temporary file beside it
 /// and renames it, so a reader never sees a partial image. Throws std::runtime_error on failure.

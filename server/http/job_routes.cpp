@@ -108,11 +108,10 @@ void sendImage(ApiContext& api, const httplib::Request& req, httplib::Response& 
                            "job " + job->id + " is " + toString(job->state) +
                                ": its image exists once it has succeeded (preview.png shows the "
                                "film so far)");
-    std::ifstream in(api.jobs.file(job->id, name), std::ios::binary);
-    if (!in) return sendProblem(res, 404, "no " + name + " yet for job " + job->id);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::optional<std::string> bytes = api.jobs.file(job->id, name);
+    if (!bytes) return sendProblem(res, 404, "no " + name + " yet for job " + job->id);
     res.set_header("Cache-Control", preview ? "no-store" : "max-age=31536000, immutable");
-    res.set_content(bytes, name.ends_with(".exr") ? "image/x-exr" : "image/png");
+    res.set_content(*bytes, name.ends_with(".exr") ? "image/x-exr" : "image/png");
 }
 
 }  // namespace

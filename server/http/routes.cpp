@@ -17,6 +17,7 @@ void registerRoutes(httplib::Server& http, ApiContext& api) {
     registerSceneRoutes(http, api);
     registerJobRoutes(http, api);
     registerAssetRoutes(http, api);
+    registerFarmRoutes(http, api);
     // Static files of the web page, from its folder only.
     if (!api.config.webDir.empty()) http.set_mount_point("/", api.config.webDir.string());
     // The documentation the API links to (openapi.json's externalDocs), from its folder only.

@@ -12,6 +12,7 @@
 #include "jobs/retention.h"
 #include "jobs/worker_pool.h"
 #include "server_config.h"
+#include "store/farm_store.h"
 
 namespace caustic::server {
 
@@ -23,11 +24,14 @@ struct ApiContext {
     const std::atomic<bool>& stopping;
     const StorageCounters& storage;
     AssetService& assets;
+    FarmStore* farm = nullptr;  ///< A store shared with worker processes; null for SQLite.
 };
 
 /// Registers every route, the guards (http/guards.h), the error bodies and the static files.
 void registerRoutes(httplib::Server& http, ApiContext& api);
 
+/// Scale-out: the workers (GET /api/workers) and re-queueing a job (POST .../requeue).
+void registerFarmRoutes(httplib::Server& http, ApiContext& api);
 /// The jobs: submit, list, read, follow (Server-Sent Events), images, cancel, delete.
 void registerJobRoutes(httplib::Server& http, ApiContext& api);
 /// Follows a job as Server-Sent Events until it ends or is deleted (GET /api/jobs/{id}/events).

@@ -63,9 +63,15 @@ public:
     bool waitForChange(uint64_t& seen, std::chrono::milliseconds timeout) {
         return events_.wait(seen, timeout);
     }
-    /// A job's file (image.png, image.exr, preview.png), which may not exist yet.
-    std::filesystem::path file(const std::string& id, const std::string& name) const {
-        return files_.image(id, name);
+    /// A job's file (image.png, image.exr, preview.png); nothing when it does not exist yet.
+    std::optional<std::string> file(const std::string& id, const std::string& name) const {
+        return files_.read(id, name);
+    }
+
+    /// A job was put back in the queue: wake the workers and the event streams.
+    void notifyQueued() {
+        wakeWorkers_();
+        events_.notify();
     }
 
     /// Cancels a queued job, or asks a running one's worker to stop. Nothing for an unknown id.

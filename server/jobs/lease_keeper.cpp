@@ -10,10 +10,14 @@ using SteadyClock = std::chrono::steady_clock;
 
 LeaseKeeper::LeaseKeeper(JobStore& store, const ServerConfig& config, std::string id, int attempt,
                          const std::atomic<bool>& stopping)
-    : store_(store),
-      config_(config),
-      id_(std::move(id)),
-      attempt_(attempt),
+    : LeaseKeeper([&store, id = std::move(id), attempt, lease = config.leaseSeconds](
+                      double now) { return store.heartbeat(id, attempt, now, lease); },
+                  config.leaseSeconds, stopping) {}
+
+LeaseKeeper::LeaseKeeper(std::function<LeaseStatus(double now)> beat, double leaseSeconds,
+                         const std::atomic<bool>& stopping)
+    : beat_(std::move(beat)),
+      leaseSeconds_(leaseSeconds),
       stopping_(stopping),
       thread_([this] { run(); }) {}
 
@@ -23,7 +27,7 @@ LeaseKeeper::~LeaseKeeper() {
 }
 
 void LeaseKeeper::run() {
-    const auto period = std::chrono::duration<double>(std::min(1.0, config_.leaseSeconds / 4));
+    const auto period = std::chrono::duration<double>(std::min(1.0, leaseSeconds_ / 4));
     auto last = SteadyClock::now();
     while (!done_) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -32,7 +36,7 @@ void LeaseKeeper::run() {
         last = SteadyClock::now();
         LeaseStatus s = LeaseStatus::Held;
         try {
-            s = store_.heartbeat(id_, attempt_, unixNow(), config_.leaseSeconds);
+            s = beat_(unixNow());
         } catch (const std::exception&) {
             continue;  // the store is busy: try again at the next beat
         }

@@ -1,9 +1,10 @@
-// Keeps a running job's lease: a thread that renews it a few times per lease period while the job
-// renders, and turns what the store says (cancellation asked, lease lost) and the server's
-// shutdown into the render's cancel flag.
+// Keeps a running job's (or task's) lease: a thread that renews it a few times per lease period
+// while the job renders, and turns what the store says (cancellation asked, lease lost) and the
+// server's shutdown into the render's cancel flag.
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <string>
 #include <thread>
 
@@ -18,6 +19,9 @@ public:
     /// shutdown flag; it must outlive the keeper.
     LeaseKeeper(JobStore& store, const ServerConfig& config, std::string id, int attempt,
                 const std::atomic<bool>& stopping);
+    /// Renews a lease of `leaseSeconds` by calling `beat(now)` (store/task.h's tasks).
+    LeaseKeeper(std::function<LeaseStatus(double now)> beat, double leaseSeconds,
+                const std::atomic<bool>& stopping);
     /// Stops renewing (the lease then runs out unless the job is finished).
     ~LeaseKeeper();
     LeaseKeeper(const LeaseKeeper&) = delete;
@@ -31,10 +35,8 @@ public:
 private:
     void run();
 
-    JobStore& store_;
-    const ServerConfig& config_;
-    std::string id_;
-    int attempt_;
+    std::function<LeaseStatus(double now)> beat_;
+    double leaseSeconds_;
     const std::atomic<bool>& stopping_;
     std::atomic<bool> done_{false};
     std::thread thread_;

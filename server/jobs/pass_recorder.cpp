@@ -56,9 +56,9 @@ void PassRecorder::onProgress(const RenderProgress& p) {
 
 void PassRecorder::onPass(const Film& film) {
     if (lease_.lost) return;
-    files_.writeCheckpoint(job_.id, film);
+    files_.writeCheckpoint(job_.id, job_.attempt, film);
     if (SteadyClock::now() - lastPreview_ > std::chrono::milliseconds(500)) {
-        files_.writeImage(job_.id, "preview.png", film, settings_.exposure);
+        files_.writeImage(job_.id, job_.attempt, "preview.png", film, settings_.exposure);
         lastPreview_ = SteadyClock::now();
     }
     std::optional<LiveProgress> live = events_.live(job_.id);

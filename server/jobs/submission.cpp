@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "film/exact_sum.h"
 #include "render/memory_estimate.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
@@ -49,6 +50,17 @@ Json resolveScene(const Json& scene, const ServerConfig& config, std::string& na
     return readJsonFile(config.scenesDir / (name + ".json"));
 }
 
+// An optional integer field of the body in [lo, hi]; `fallback` when absent.
+int64_t integerField(const Json& body, const char* name, int64_t lo, int64_t hi, int64_t fallback) {
+    if (!body.contains(name)) return fallback;
+    const Json& v = body[name];
+    if (!v.is_number_integer() || v.get<int64_t>() < lo || v.get<int64_t>() > hi)
+        throw InputError(jsonPointer("", name), "expected an integer in [" + std::to_string(lo) +
+                                                    ", " + std::to_string(hi) + "], got " +
+                                                    v.dump());
+    return v.get<int64_t>();
+}
+
 }  // namespace
 
 std::vector<std::string> exampleSceneNames(const fs::path& scenesDir) {
@@ -70,9 +82,11 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
                const MeshAssetResolver& assets) {
     if (!body.is_object()) throw InputError("/", "expected an object, got " + jsonTypeName(body));
     for (auto it = body.begin(); it != body.end(); ++it)
-        if (it.key() != "scene" && it.key() != "settings")
+        if (it.key() != "scene" && it.key() != "settings" && it.key() != "priority" &&
+            it.key() != "task_passes")
             throw InputError(jsonPointer("", it.key()),
-                             "unknown field; a job has \"scene\" and \"settings\"");
+                             "unknown field; a job has \"scene\", \"settings\", \"priority\" "
+                             "and \"task_passes\"");
     if (!body.contains("scene"))
         throw InputError("/scene", "required: a scene object or the name of an example scene");
     const ServiceLimits& limits = config.limits;
@@ -125,6 +139,14 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
     checkMemoryEstimate(*scene, settings);
 
     job.settings = settings.toJson();
+    job.priority = int(integerField(body, "priority", -1000, 1000, 0));
+    // Split into tasks where workers share a store (store/task.h).
+    const int64_t taskPasses = integerField(body, "task_passes", 1, exact::kMaxPasses, 0);
+    if (!config.store.empty()) {
+        const int perPass = settings.resolvedSppPerPass();
+        job.passesTotal = (settings.spp + perPass - 1) / perPass;
+        job.taskPasses = int(taskPasses > 0 ? taskPasses : config.taskPasses);
+    }
     return job;
 }
 

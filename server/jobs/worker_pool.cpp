@@ -136,9 +136,9 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
             outcome.state = JobState::Cancelled;
             outcome.error = "cancelled";
         } else {
-            files_.writeImage(job.id, "image.exr", *film, 0.0);
-            files_.writeImage(job.id, "image.png", *film, settings.exposure);
-            files_.writeImage(job.id, "preview.png", *film, settings.exposure);
+            files_.writeImage(job.id, job.attempt, "image.exr", *film, 0.0);
+            files_.writeImage(job.id, job.attempt, "image.png", *film, settings.exposure);
+            files_.writeImage(job.id, job.attempt, "preview.png", *film, settings.exposure);
             outcome.state = JobState::Succeeded;
         }
     } catch (const RenderCancelled&) {

@@ -39,6 +39,10 @@ struct Job {
     double leaseExpires = 0;
     int stalledLeases = 0;  ///< Leases in a row that expired before their holder finished a pass.
     bool cancelRequested = false;
+    // Scale-out (PostgreSQL, store/task.h): a job's passes are cut into tasks of `taskPasses`,
+    // claimed by higher `priority` first, then in submission order.
+    int priority = 0;
+    int taskPasses = 0;  ///< Passes per task; 0 where jobs are not split (SQLite).
 
     // Progress of the current (or last) attempt, and the result.
     double progress = 0;  ///< Of the spp budget, in [0, 1].

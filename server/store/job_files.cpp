@@ -41,12 +41,6 @@ int writeNewFile(const fs::path& file, const std::string& bytes) {
     return error;
 }
 
-// True when `e` is a file system error of a full disk (creating a folder, renaming).
-bool isNoSpace(const std::exception& e) {
-    auto* fsError = dynamic_cast<const fs::filesystem_error*>(&e);
-    return fsError && isNoSpaceError(fsError->code().value());
-}
-
 }  // namespace
 
 void writeFileAtomically(const fs::path& file, const std::string& bytes) {
@@ -67,47 +61,42 @@ void writeFileAtomically(const fs::path& file, const std::string& bytes) {
     throw std::runtime_error("cannot write " + file.string() + ": " + std::strerror(error));
 }
 
-void JobFiles::writeCheckpoint(const std::string& id, const Film& film) const {
-    writeFileAtomically(dir(id) / "checkpoint.bin", film.toBytes());
-}
-
 std::unique_ptr<Film> JobFiles::readCheckpoint(const std::string& id, int width, int height) const {
-    std::ifstream in(dir(id) / "checkpoint.bin", std::ios::binary);
-    if (!in) return nullptr;
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    return Film::fromBytes(bytes, width, height);
+    std::optional<std::string> bytes = read(id, "checkpoint.bin");
+    return bytes ? Film::fromBytes(*bytes, width, height) : nullptr;
 }
 
-void JobFiles::removeCheckpoint(const std::string& id) const {
+bool JobFiles::writeImage(const std::string& id, int attempt, const std::string& name,
+                          const Film& film, double exposure) const {
+    const std::string format = fs::path(name).extension().string().substr(1);
+    const RgbImage image{film.width(), film.height(), film.meanRgb()};
+    return write(id, attempt, name, encodeImage(image, format, format == "png" ? exposure : 0.0));
+}
+
+bool FolderJobFiles::write(const std::string& id, int, const std::string& name,
+                           const std::string& bytes) const {
+    writeFileAtomically(dir(id) / name, bytes);
+    return true;
+}
+
+std::optional<std::string> FolderJobFiles::read(const std::string& id,
+                                                const std::string& name) const {
+    std::ifstream in(dir(id) / name, std::ios::binary);
+    if (!in) return std::nullopt;
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void FolderJobFiles::removeFile(const std::string& id, const std::string& name) const {
     std::error_code ec;
-    fs::remove(dir(id) / "checkpoint.bin", ec);
+    fs::remove(dir(id) / name, ec);
 }
 
-void JobFiles::writeImage(const std::string& id, const std::string& name, const Film& film,
-                          double exposure) const {
-    try {
-        fs::create_directories(dir(id));
-        // caustic::writeImage writes a temporary file beside the target and renames it (and
-        // removes the temporary file when the write fails).
-        caustic::writeImage(dir(id) / name, RgbImage{film.width(), film.height(), film.meanRgb()},
-                            exposure);
-    } catch (const std::exception& e) {
-        // OpenImageIO reports a failed write in its own words, without errno: a file system with
-        // less room left than the uncompressed pixels (a bound on either format's size) ran out.
-        const uint64_t rawBytes = uint64_t(film.width()) * uint64_t(film.height()) * 3 * 4;
-        std::optional<DiskSpace> space = diskSpace(root_.parent_path());
-        if (isNoSpace(e) || (space && space->freeBytes < rawBytes + 65536))
-            throw StorageFull(fullDiskMessage(name));
-        throw;
-    }
-}
-
-void JobFiles::remove(const std::string& id) const {
+void FolderJobFiles::remove(const std::string& id) const {
     std::error_code ec;
     fs::remove_all(dir(id), ec);
 }
 
-int JobFiles::removeTemporaryFiles() const {
+int FolderJobFiles::removeTemporaryFiles() const {
     // A job's own files have fixed names; ".tmp" marks those of writeFileAtomically and
     // caustic::writeImage.
     int removed = 0;

@@ -9,6 +9,8 @@
 #include "store/postgres_transaction.h"
 
 namespace caustic::server {
+using postgres::getJob;
+using postgres::notifyJobs;
 using postgres::transact;
 
 namespace {
@@ -16,7 +18,7 @@ namespace {
 const char* kJobColumns =
     "seq, id, state, scene, settings, scene_name, created_at, started_at, finished_at, attempt, "
     "lease_owner, lease_expires, stalled_leases, cancel_requested, progress, passes_done, "
-    "passes_total, relative_error, eta_seconds, convergence, stats, error";
+    "passes_total, relative_error, eta_seconds, convergence, stats, error, priority, task_passes";
 
 Job readJob(const pqxx::row& r) {
     Job j;
@@ -42,6 +44,8 @@ Job readJob(const pqxx::row& r) {
     j.convergence = Json::parse(r[19].as<std::string>());
     j.stats = Json::parse(r[20].as<std::string>());
     j.error = r[21].as<std::string>();
+    j.priority = r[22].as<int>();
+    j.taskPasses = r[23].as<int>();
     return j;
 }
 
@@ -54,8 +58,13 @@ StoredResponse readResponse(const pqxx::row& r) {
                           r[3].as<std::string>()};
 }
 
-std::optional<Job> getJob(pqxx::work& tx, const std::string& id) {
-    pqxx::result rows = tx.exec_params(selectJobs("WHERE id = $1"), id);
+}  // namespace
+
+namespace postgres {
+
+std::optional<Job> getJob(pqxx::work& tx, const std::string& id, bool lock) {
+    pqxx::result rows =
+        tx.exec_params(selectJobs(lock ? "WHERE id = $1 FOR UPDATE" : "WHERE id = $1"), id);
     if (rows.empty()) return std::nullopt;
     Job job = readJob(rows[0]);
     for (const pqxx::row& r :
@@ -63,6 +72,14 @@ std::optional<Job> getJob(pqxx::work& tx, const std::string& id) {
         job.assets.push_back(r[0].as<std::string>());
     return job;
 }
+
+void notifyJobs(pqxx::work& tx) {
+    tx.exec("NOTIFY " + std::string(kJobsChannel));
+}
+
+}  // namespace postgres
+
+namespace {
 
 // Records that `job` uses its assets (inside insert()'s transaction); throws AssetMissing. The
 // update locks each asset's row, so removeAsset() either sees the job or the job sees no asset.
@@ -114,12 +131,20 @@ std::optional<StoredResponse> PostgresJobStore::insert(Job& job, const std::stri
         }
         job.seq =
             tx.exec_params1(
-                  "INSERT INTO jobs (id, state, scene, settings, scene_name, "
-                  "created_at) VALUES ($1, 'queued', $2, $3, $4, $5) RETURNING seq",
-                  job.id, job.scene.dump(), job.settings.dump(), job.sceneName, job.createdAt)[0]
+                  "INSERT INTO jobs (id, state, scene, settings, scene_name, created_at, "
+                  "priority, task_passes, passes_total) VALUES ($1, 'queued', $2, $3, $4, $5, "
+                  "$6, $7, $8) RETURNING seq",
+                  job.id, job.scene.dump(), job.settings.dump(), job.sceneName, job.createdAt,
+                  job.priority, job.taskPasses, job.passesTotal)[0]
                 .as<int64_t>();
         job.state = JobState::Queued;
         holdAssets(tx, job);
+        if (job.taskPasses > 0 && job.passesTotal > 0)
+            tx.exec_params(
+                "INSERT INTO tasks (job_id, first_pass, last_pass) SELECT $1, f, LEAST(f + $2, "
+                "$3) FROM generate_series(0, $3 - 1, $2) AS f",
+                job.id, job.taskPasses, job.passesTotal);
+        notifyJobs(tx);
         return std::nullopt;
     });
 }
@@ -199,8 +224,8 @@ std::optional<Job> PostgresJobStore::claim(const std::string& owner, double now,
             "'queued' AND attempt >= $2 FOR UPDATE SKIP LOCKED)",
             now, maxAttempts);
         pqxx::result pick = tx.exec(
-            "SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1 FOR UPDATE SKIP "
-            "LOCKED");
+            "SELECT id FROM jobs WHERE state = 'queued' AND task_passes = 0 ORDER BY seq LIMIT 1 "
+            "FOR UPDATE SKIP LOCKED");
         if (pick.empty()) return std::nullopt;
         const std::string id = pick[0][0].as<std::string>();
         tx.exec_params(
@@ -245,6 +270,7 @@ bool PostgresJobStore::recordPass(const std::string& id, int attempt, double pro
                                   int passesDone, int passesTotal, double relativeError,
                                   double etaSeconds, const Json& convergencePoint) {
     return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+        notifyJobs(tx);
         return tx.exec_params(
                      "UPDATE jobs SET progress = $3, passes_done = $4, passes_total = $5, "
                      "relative_error = $6, eta_seconds = $7, stalled_leases = 0, "
@@ -259,6 +285,7 @@ bool PostgresJobStore::recordPass(const std::string& id, int attempt, double pro
 bool PostgresJobStore::finish(const std::string& id, int attempt, JobState state, const Json& stats,
                               const std::string& error, double now) {
     return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+        notifyJobs(tx);
         return tx.exec_params(
                      "UPDATE jobs SET state = $3, stats = $4, error = $5, finished_at = "
                      "$6, lease_owner = '', eta_seconds = 0, progress = CASE WHEN $3 = "
@@ -277,6 +304,13 @@ std::optional<Job> PostgresJobStore::cancel(const std::string& id, double now) {
             id, now);
         tx.exec_params(
             "UPDATE jobs SET cancel_requested = TRUE WHERE id = $1 AND state = 'running'", id);
+        // A split job that no task renders right now ends at once.
+        tx.exec_params(
+            "UPDATE jobs SET state = 'cancelled', finished_at = $2, error = 'cancelled' WHERE id "
+            "= $1 AND state = 'running' AND task_passes > 0 AND NOT EXISTS (SELECT 1 FROM tasks "
+            "WHERE job_id = $1 AND state = 'running')",
+            id, now);
+        notifyJobs(tx);
         return getJob(tx, id);
     });
 }
@@ -285,6 +319,7 @@ bool PostgresJobStore::remove(const std::string& id) {
     return transact(*connection_, mutex_, [&](pqxx::work& tx) {
         tx.exec_params("DELETE FROM idempotency WHERE job_id = $1", id);
         tx.exec_params("DELETE FROM job_assets WHERE job_id = $1", id);
+        notifyJobs(tx);
         return tx.exec_params("DELETE FROM jobs WHERE id = $1", id).affected_rows() == 1;
     });
 }

@@ -12,7 +12,9 @@
 #include <mutex>
 #include <string>
 
+#include "store/farm_store.h"
 #include "store/job_store.h"
+#include "store/task.h"
 
 namespace caustic::server {
 
@@ -20,7 +22,7 @@ namespace postgres {
 struct Connection;
 }
 
-class PostgresJobStore final : public JobStore {
+class PostgresJobStore final : public JobStore, public FarmStore {
 public:
     /// Connects (`conninfo`: a libpq connection string or postgresql:// URI) and applies the
     /// schema migrations this program knows that the database lacks. Throws std::runtime_error
@@ -64,6 +66,43 @@ public:
     std::vector<std::string> removeUnusedAssets(double unusedSince) override;
     int64_t assetBytesTotal() override;
     void reclaimSpace() override;
+
+    // Job files (store/postgres_job_files.cpp), for PostgresJobFiles.
+    /// Writes a file of attempt `attempt` of a job in one statement; false, writing nothing, when
+    /// that is no longer the job's attempt or the job is gone.
+    bool putFile(const std::string& id, int attempt, const std::string& name,
+                 const std::string& bytes);
+    std::optional<std::string> getFile(const std::string& id, const std::string& name);
+    /// Removes one file of the job, or every one when `name` is empty.
+    void removeFiles(const std::string& id, const std::string& name = {});
+
+    // Scale-out (store/task.h): store/postgres_tasks.cpp. Jobs inserted with taskPasses > 0 get
+    // their tasks in insert()'s transaction and are rendered by tasks only (claim() skips them).
+    /// Re-queues tasks whose leases expired (failing the jobs of those that stalled too often,
+    /// ending cancelled jobs no task renders any more), then leases the next task to `worker`.
+    std::optional<ClaimedTask> claimTask(const std::string& worker, double now,
+                                         const FarmPolicy& policy);
+    /// Held, CancelRequested (the job's cancel was asked), or Lost (another attempt has the task,
+    /// or the job no longer needs it: it ended, or reached its target error).
+    LeaseStatus heartbeatTask(const Task& task, double now, double leaseSeconds);
+    /// Hands in a task's result: merges it into the job's film, and ends the job with its images
+    /// when nothing is left to render.
+    TaskCommit completeTask(const Task& task, const TaskResult& result, double now);
+    /// Gives a task back unrendered (its worker stops, or the job's cancel was asked): queued
+    /// again; a cancelled job that no task renders any more ends cancelled.
+    void releaseTask(const Task& task, double now);
+    /// The render of a task failed on `worker`: the task is queued again, the worker's failures
+    /// of the job counted; the job fails when policy.failAfterWorkers workers have failed it.
+    /// Returns whether the job failed.
+    bool failTask(const Task& task, const std::string& worker, const std::string& error, double now,
+                  const FarmPolicy& policy);
+    /// Fails the job of a task with `error` (bad input: no other worker would do better).
+    bool failJob(const Task& task, const std::string& error, double now);
+    std::optional<Job> requeue(const std::string& id) override;
+    /// Records that a worker is alive (and what it renders).
+    void workerSeen(const WorkerInfo& worker);
+    void workerGone(const std::string& id);
+    std::vector<WorkerInfo> listWorkers(double seenSince) override;
 
 private:
     std::unique_ptr<postgres::Connection> connection_;

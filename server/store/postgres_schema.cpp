@@ -69,6 +69,56 @@ CREATE TABLE job_assets (
 );
 CREATE INDEX job_assets_by_asset ON job_assets (asset_id);
 )sql"},
+        // Scale-out: tasks (pass ranges of a job), job files (the merged film, previews,
+        // images) in the database so that nodes share nothing else, the workers, and which
+        // worker failed which job's tasks (store/task.h).
+        {.version = 2, .sql = R"sql(
+ALTER TABLE jobs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN task_passes INTEGER NOT NULL DEFAULT 0;
+CREATE INDEX jobs_by_priority ON jobs (priority DESC, seq) WHERE state IN ('queued', 'running');
+CREATE TABLE tasks (
+    job_id TEXT NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+    first_pass INTEGER NOT NULL,
+    last_pass INTEGER NOT NULL,
+    state TEXT NOT NULL DEFAULT 'queued',
+    attempt INTEGER NOT NULL DEFAULT 0,
+    lease_owner TEXT NOT NULL DEFAULT '',
+    lease_expires DOUBLE PRECISION NOT NULL DEFAULT 0,
+    stalled_leases INTEGER NOT NULL DEFAULT 0,
+    passes_done INTEGER NOT NULL DEFAULT 0,
+    rays BIGINT NOT NULL DEFAULT 0,
+    render_seconds DOUBLE PRECISION NOT NULL DEFAULT 0,
+    result BYTEA,
+    PRIMARY KEY (job_id, first_pass)
+);
+CREATE INDEX tasks_by_state ON tasks (state, job_id, first_pass);
+CREATE TABLE job_files (
+    job_id TEXT NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+    name TEXT NOT NULL,
+    data BYTEA NOT NULL,
+    PRIMARY KEY (job_id, name)
+);
+CREATE TABLE workers (
+    id TEXT PRIMARY KEY,
+    host TEXT NOT NULL,
+    cores INTEGER NOT NULL,
+    threads INTEGER NOT NULL,
+    started_at DOUBLE PRECISION NOT NULL,
+    last_seen DOUBLE PRECISION NOT NULL,
+    job_id TEXT NOT NULL DEFAULT '',
+    first_pass INTEGER NOT NULL DEFAULT -1,
+    last_pass INTEGER NOT NULL DEFAULT -1,
+    tasks_done BIGINT NOT NULL DEFAULT 0,
+    tasks_failed BIGINT NOT NULL DEFAULT 0
+);
+CREATE TABLE task_failures (
+    job_id TEXT NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+    worker_id TEXT NOT NULL,
+    failures INTEGER NOT NULL,
+    last_error TEXT NOT NULL,
+    PRIMARY KEY (job_id, worker_id)
+);
+)sql"},
     };
     return all;
 }

@@ -6,11 +6,14 @@
 
 #include <pqxx/pqxx>
 
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 
+#include "store/job.h"
 #include "store/storage_full.h"
 
 namespace caustic::server::postgres {
@@ -27,12 +30,19 @@ struct Connection {
     }
 };
 
+/// The channel every change of a job is announced on (NOTIFY, delivered at commit), so that API
+/// processes anywhere wake their event streams (farm/store_listener.h).
+inline constexpr const char* kJobsChannel = "caustic_jobs";
+void notifyJobs(pqxx::work& tx);
+/// A job with its assets; with `lock`, its row locked until the transaction ends.
+std::optional<Job> getJob(pqxx::work& tx, const std::string& id, bool lock = false);
+
 /// Runs f(pqxx::work&) in a transaction under `mutex` and commits it; returns what f returns. An
 /// exception from f (other than the retried ones) rolls the transaction back and propagates. A
 /// transaction whose commit may or may not have happened (pqxx::in_doubt_error) is not retried.
 template <class F>
 auto transact(Connection& connection, std::mutex& mutex, F&& f) {
-    constexpr int kTries = 4;
+    constexpr int kTries = 5;
     std::lock_guard lock(mutex);
     for (int attempt = 1;; ++attempt) {
         try {
@@ -46,8 +56,10 @@ auto transact(Connection& connection, std::mutex& mutex, F&& f) {
         } catch (const pqxx::in_doubt_error&) {
             throw;
         } catch (const pqxx::broken_connection&) {
+            // The server restarting, or a network cut: try again for about three seconds.
             connection.link.reset();
             if (attempt >= kTries) throw;
+            std::this_thread::sleep_for(std::chrono::milliseconds(100 << attempt));
         } catch (const pqxx::disk_full& e) {
             throw StorageFull(
                 std::string("PostgreSQL's disk is full: the job store cannot write (") + e.what() +

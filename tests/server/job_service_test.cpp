@@ -44,7 +44,7 @@ protected:
     TempDir dir_;
     ServerConfig config_;
     SqliteJobStore store_;
-    JobFiles files_;
+    FolderJobFiles files_;
     JobEvents events_;
     int wakes_ = 0;
     JobService service_;

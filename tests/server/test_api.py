@@ -8,9 +8,21 @@ test_job_control.py has cancel, delete, the preview, Idempotency-Key and the 404
 import json
 import os
 import re
+import subprocess
+import tempfile
 
 from conftest import (ID, ROOT, TINY_SCENE, assert_problem, exr_info, png_info, run_to_end,
                       sse_events, submit_ok, tiny_job, tiny_scene)
+
+
+def test_a_second_server_on_a_port_in_use_does_not_start(server, caustic_bin):
+    # cpp-httplib's default SO_REUSEPORT let it start and take a share of the first's connections.
+    with tempfile.TemporaryDirectory() as data:
+        second = subprocess.run([caustic_bin, "serve", "--port", str(server.port), "--data", data],
+                                capture_output=True, text=True, timeout=30)
+    assert second.returncode == 1, second
+    assert f"cannot listen on 127.0.0.1:{server.port}" in second.stderr, second.stderr
+    server.healthy()
 
 
 # The read-only resources.

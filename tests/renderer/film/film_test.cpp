@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 
@@ -89,6 +91,25 @@ TEST(ImageIo, ExrRoundTripIsExactAndPngIsSrgbEncoded) {
         EXPECT_NEAR(png.pixels[i], expected, 1e-6f) << i;
     }
     EXPECT_THROW(writeImage(dir / "a.jpg", image), std::runtime_error);
+    fs::remove_all(dir);
+}
+
+// Images kept in a database are encoded in memory: the very bytes of the file, every time.
+TEST(ImageIo, EncodedImagesAreTheFilesBytes) {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("caustic-encode-test-" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    RgbImage image{2, 2, {0.1f, 0.2f, 0.3f, 1.0f, 0.0f, 0.5f, 2.0f, 0.25f, 0.75f, 0, 0, 1e-3f}};
+    for (const char* format : {"exr", "png"}) {
+        const fs::path file = dir / (std::string("a.") + format);
+        writeImage(file, image, 0.5);
+        std::ifstream in(file, std::ios::binary);
+        std::string onDisk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string encoded = encodeImage(image, format, 0.5);
+        EXPECT_EQ(encoded, onDisk) << format;
+        EXPECT_EQ(encodeImage(image, format, 0.5), encoded) << format;
+    }
+    EXPECT_THROW(encodeImage(image, "tif"), std::runtime_error);
     fs::remove_all(dir);
 }
 

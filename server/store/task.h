@@ -1,0 +1,80 @@
+// Scale-out on PostgreSQL: a job's passes [0, passes_total) are cut into tasks, pass ranges of
+// `task_passes`, that worker processes on any machine claim and render with the job's seed.
+//
+// Protocol. A worker claims the queued task of the highest-priority job, oldest job first, lowest
+// range first, with a lease (FOR UPDATE SKIP LOCKED: claimers never wait for each other). It
+// renews the lease by heartbeats, which also carry a cancellation, and hands in the task's result
+// fenced by the task's attempt: a result whose attempt is no longer the task's current one changes
+// nothing, so no pass is ever counted twice. Handing in merges the result into the job's film
+// under the job's row lock, exactly (film/exact_sum.h): the merged film is bit-identical to one
+// process's whatever the split and the order. A job with a target error merges passes in index
+// order and checks the error after each, as one process does (render/target_error_merge.h), so it
+// stops at the same pass. The worker that merges the last pass writes the images and ends the job.
+//
+// Faults. A lease that expires (the worker was killed, its machine or network went) puts the task
+// back in the queue; a task whose leases expire `maxStalledLeases` times in a row fails the job. A
+// worker whose render of a job's task fails (an exception) is blocked from that job after
+// `blockAfterFailures` failures; the job fails once `failAfterWorkers` distinct workers failed it
+// (a broken node must not fail everyone's jobs). Bad input (an InputError) fails the job at once.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "store/job.h"
+
+namespace caustic::server {
+
+/// A task as its holder knows it: every write names (jobId, firstPass, attempt).
+struct Task {
+    std::string jobId;
+    int firstPass = 0, lastPass = 0;  ///< Passes [firstPass, lastPass).
+    int attempt = 0;
+};
+
+struct ClaimedTask {
+    Task task;
+    Job job;
+};
+
+/// The rules of claims and failures (store/task.h, "Faults").
+struct FarmPolicy {
+    double leaseSeconds = 10;
+    int maxStalledLeases = 3;
+    int blockAfterFailures = 2;
+    int failAfterWorkers = 3;
+};
+
+/// What a worker hands in.
+struct TaskResult {
+    int width = 0, height = 0;  ///< The film's.
+    std::string film;        ///< Film::toBytes() of the passes rendered (a job without a target).
+    std::string passImages;  ///< Each pass's image (farm/pass_images.h), for a target error.
+    int passesDone = 0;      ///< Fewer than the range when a time limit cut it.
+    uint64_t rays = 0;
+    double renderSeconds = 0;
+};
+
+/// What handing in did.
+enum class TaskCommit {
+    Fenced,    ///< Not the task's current attempt (or the job ended): nothing changed.
+    Merged,    ///< Merged; the job goes on.
+    Finished,  ///< Merged, and the job succeeded: its images are written.
+};
+
+/// A worker renews its row every second or so: one not seen for this long is gone.
+inline constexpr double kWorkerAliveSeconds = 30;
+
+/// A worker process's thread as the store knows it (GET /api/workers).
+struct WorkerInfo {
+    std::string id;
+    std::string host;
+    int cores = 0, threads = 0;
+    double startedAt = 0, lastSeen = 0;
+    std::optional<Task> current;  ///< The task it renders (attempt 0), if any.
+    int64_t tasksDone = 0, tasksFailed = 0;
+};
+
+}  // namespace caustic::server
