@@ -370,3 +370,40 @@ def long_job(server):
     assert r.status_code in (202, 404), r.text
     if r.status_code == 202:
         server.wait(job["id"], {"cancelled", "succeeded", "failed"}, deadline=60)
+
+
+# Scale-out (tests marked `scaleout`, run by CTest's scale_out_tests; tests/server/farm.py).
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "scaleout: needs PostgreSQL and worker processes")
+
+
+@pytest.fixture(scope="module")
+def postgres():
+    """A PostgreSQL server for the module's tests."""
+    from farm import PostgresCluster
+    cluster = PostgresCluster()
+    yield cluster
+    cluster.stop()
+
+
+@pytest.fixture
+def farm(postgres, start_server, caustic_bin, tmp_path):
+    """A factory of a scale-out on a fresh database: farm(workers=3, api_args=(), worker_args=())
+    returns (api, [workers]): one `caustic serve --store ... --workers 0` and `workers` processes
+    of `caustic worker --threads 1`. Every process is stopped at the end of the test."""
+    from farm import Worker
+    started = []
+
+    def make(workers=3, api_args=(), worker_args=()):
+        store = postgres.create_database()
+        api = start_server("--store", store, "--workers", "0", *api_args)
+        procs = [Worker(caustic_bin, store, str(tmp_path), "--threads", "1", *worker_args).start()
+                 for _ in range(workers)]
+        started.extend(procs)
+        api.store = store
+        return api, procs
+
+    yield make
+    for w in started:
+        w.stop()
