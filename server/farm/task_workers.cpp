@@ -86,6 +86,7 @@ void TaskWorkers::run(int index) {
             spdlog::error("worker {}: claiming a task: {}", me.id, e.what());
         }
         if (!claimed) {
+            cache = Cached{};  // an idle worker holds no scene
             // Polled as well: leases expire and other processes queue jobs without a wake-up.
             std::unique_lock lock(mutex_);
             wake_.wait_for(lock, std::chrono::milliseconds(250));

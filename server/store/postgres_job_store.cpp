@@ -224,7 +224,9 @@ std::optional<Job> PostgresJobStore::claim(const std::string& owner, double now,
             "'queued' AND attempt >= $2 FOR UPDATE SKIP LOCKED)",
             now, maxAttempts);
         pqxx::result pick = tx.exec(
-            "SELECT id FROM jobs WHERE state = 'queued' AND task_passes = 0 ORDER BY seq LIMIT 1 "
+            "SELECT id FROM jobs WHERE state = 'queued' AND task_passes = 0 ORDER BY priority "
+            "DESC, "
+            "seq LIMIT 1 "
             "FOR UPDATE SKIP LOCKED");
         if (pick.empty()) return std::nullopt;
         const std::string id = pick[0][0].as<std::string>();

@@ -52,7 +52,7 @@ CREATE TABLE IF NOT EXISTS idempotency (
 const char* kJobColumns =
     "seq, id, state, scene, settings, scene_name, created_at, started_at, finished_at, attempt, "
     "lease_owner, lease_expires, stalled_leases, cancel_requested, progress, passes_done, "
-    "passes_total, relative_error, eta_seconds, convergence, stats, error";
+    "passes_total, relative_error, eta_seconds, convergence, stats, error, priority";
 
 Job readJob(const Statement& s) {
     Job j;
@@ -78,6 +78,7 @@ Job readJob(const Statement& s) {
     j.convergence = Json::parse(s.text(19));
     j.stats = Json::parse(s.text(20));
     j.error = s.text(21);
+    j.priority = int(s.integer(22));
     return j;
 }
 
@@ -127,6 +128,9 @@ SqliteJobStore::SqliteJobStore(const std::filesystem::path& file) {
     // write-ahead log that grew with a large upload is cut back after each checkpoint.
     exec(db_, "PRAGMA auto_vacuum=INCREMENTAL; PRAGMA journal_size_limit=16777216;");
     exec(db_, kSchema);
+    // Columns added since the first schema, to a file an older version wrote.
+    if (!Statement(db_, "SELECT 1 FROM pragma_table_info('jobs') WHERE name = 'priority'").step())
+        exec(db_, "ALTER TABLE jobs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0");
     createAssetSchema();
 }
 
@@ -147,13 +151,14 @@ std::optional<StoredResponse> SqliteJobStore::insert(Job& job, const std::string
                                   existing.text(3)};
     }
     Statement ins(db_,
-                  "INSERT INTO jobs (id, state, scene, settings, scene_name, created_at) VALUES "
-                  "(?, 'queued', ?, ?, ?, ?)");
+                  "INSERT INTO jobs (id, state, scene, settings, scene_name, created_at, "
+                  "priority) VALUES (?, 'queued', ?, ?, ?, ?, ?)");
     ins.bind(1, job.id)
         .bind(2, job.scene.dump())
         .bind(3, job.settings.dump())
         .bind(4, job.sceneName)
-        .bind(5, job.createdAt);
+        .bind(5, job.createdAt)
+        .bind(6, int64_t(job.priority));
     ins.run();
     job.seq = sqlite3_last_insert_rowid(db_);
     job.state = JobState::Queued;
@@ -257,7 +262,8 @@ std::optional<Job> SqliteJobStore::claim(const std::string& owner, double now, d
         .bind(1, now)
         .bind(2, maxAttempts)
         .run();
-    Statement pick(db_, "SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1");
+    Statement pick(
+        db_, "SELECT id FROM jobs WHERE state = 'queued' ORDER BY priority DESC, seq LIMIT 1");
     if (!pick.step()) {
         tx.commit();
         return std::nullopt;

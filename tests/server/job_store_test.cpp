@@ -37,6 +37,18 @@ TYPED_TEST(JobStoreTest, ClaimsInSubmissionOrderWithALease) {
     EXPECT_FALSE(this->store_->claim("w3", 1000, kLease, 3, 100));
 }
 
+TYPED_TEST(JobStoreTest, HigherPrioritiesAreClaimedFirstThenSubmissionOrder) {
+    this->submit("low", 100, {}, -1);
+    this->submit("a", 100);
+    this->submit("urgent", 100, {}, 7);
+    this->submit("b", 100);
+    std::vector<std::string> order;
+    while (std::optional<Job> j = this->store_->claim("w", 1000, kLease, 3, 100))
+        order.push_back(j->id);
+    EXPECT_EQ(order, (std::vector<std::string>{"urgent", "a", "b", "low"}));
+    EXPECT_EQ(this->store_->get("urgent")->priority, 7);
+}
+
 TYPED_TEST(JobStoreTest, WritesOfAStaleAttemptChangeNothing) {
     this->submit("a");
     Job one = *this->store_->claim("w1", 1000, kLease, 3, 100);

@@ -36,8 +36,10 @@ protected:
         store_.reset();
         store_ = backend_.open();
     }
-    Job submit(const std::string& id, double at = 100, std::vector<std::string> assets = {}) {
+    Job submit(const std::string& id, double at = 100, std::vector<std::string> assets = {},
+               int priority = 0) {
         Job j;
+        j.priority = priority;
         j.id = id;
         j.scene = Json{{"camera", {{"width", 4}}}};
         j.settings = Json{{"spp", 4}};
