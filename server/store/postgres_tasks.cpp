@@ -110,6 +110,12 @@ bool failJobRow(pqxx::work& tx, const std::string& id, double now, const std::st
                .affected_rows() > 0;
 }
 
+// The rest of a job's passes at the pace of those merged so far; -1 before the first.
+double etaSeconds(const Job& job, int passes, double now) {
+    if (passes <= 0 || job.passesTotal <= passes) return passes > 0 ? 0.0 : -1.0;
+    return (now - job.startedAt) * double(job.passesTotal - passes) / passes;
+}
+
 // Ends a cancelled split job once no task renders it any more.
 void endCancelledJobs(pqxx::work& tx, double now) {
     tx.exec_params(
@@ -250,8 +256,10 @@ TaskCommit PostgresJobStore::completeTask(const Task& task, const TaskResult& re
             job->passesTotal > 0 ? std::min(1.0, double(film->passes()) / job->passesTotal) : 0;
         tx.exec_params(
             "UPDATE jobs SET progress = $2, passes_done = $3, relative_error = $4, stalled_leases "
-            "= 0, convergence = convergence || jsonb_build_array($5::jsonb) WHERE id = $1",
-            job->id, progress, film->passes(), std::isfinite(error) ? error : NAN, point.dump());
+            "= 0, convergence = convergence || jsonb_build_array($5::jsonb), eta_seconds = $6 "
+            "WHERE id = $1",
+            job->id, progress, film->passes(), std::isfinite(error) ? error : NAN, point.dump(),
+            etaSeconds(*job, film->passes(), now));
         notifyJobs(tx);
         if (left > 0) {
             writeFile(tx, job->id, kMergedFilm, film->toBytes());
@@ -325,8 +333,10 @@ bool PostgresJobStore::failJob(const Task& task, const std::string& error, doubl
 
 std::optional<Job> PostgresJobStore::requeue(const std::string& id) {
     return transact(*connection_, mutex_, [&](pqxx::work& tx) -> std::optional<Job> {
+        // Its time limit counts again from its next start.
         if (tx.exec_params("UPDATE jobs SET state = 'queued', error = '', finished_at = 0, "
-                           "cancel_requested = FALSE, stalled_leases = 0, eta_seconds = -1 "
+                           "started_at = 0, cancel_requested = FALSE, stalled_leases = 0, "
+                           "eta_seconds = -1 "
                            "WHERE id = $1 AND state IN ('failed', 'cancelled') AND task_passes "
                            "> 0",
                            id)
