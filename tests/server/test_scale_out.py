@@ -257,7 +257,7 @@ def test_queued_and_running_split_jobs_are_cancelled(farm):
 def test_events_follow_the_passes_rendered_by_workers_to_the_end(farm):
     api, _ = farm(workers=3)
     wait_workers(api, 3)
-    job = submit_ok(api, long_body(passes=24, spp_per_pass=128, task_passes=2))
+    job = submit_ok(api, long_body(passes=60, spp_per_pass=128, task_passes=4))
     with concurrent.futures.ThreadPoolExecutor(1) as pool:
         stream = pool.submit(sse_events, api, job["id"], 120)
         # The preview is the film merged so far, served while the job runs.
@@ -271,7 +271,8 @@ def test_events_follow_the_passes_rendered_by_workers_to_the_end(farm):
     seen = [data["passes_done"] for _, data in events]
     assert seen == sorted(seen) and len(set(seen)) > 2, seen
     end = events[-1][1]
-    assert end["state"] == "succeeded" and end["passes_done"] == 24, end
+    assert end["state"] == "succeeded" and end["passes_done"] == 60, end
+    # One convergence point a task, in the order they were merged.
     passes = [int(p["pass"]) for p in end["convergence"]]
-    assert passes == sorted(passes) and passes[-1] == 24 and len(passes) == 12, passes
+    assert passes == sorted(passes) and passes[-1] == 60 and len(passes) == 15, passes
     assert re.match(r"^\d{4}-", end["finished_at"]), end
