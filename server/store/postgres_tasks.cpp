@@ -263,6 +263,8 @@ TaskCommit PostgresJobStore::completeTask(const Task& task, const TaskResult& re
         notifyJobs(tx);
         if (left > 0) {
             writeFile(tx, job->id, kMergedFilm, film->toBytes());
+            // A job cancelled while this task rendered ends once none renders it.
+            endCancelledJobs(tx, now);
             return TaskCommit::Merged;
         }
         // Nothing left to render: the job ends with what is merged.

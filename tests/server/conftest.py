@@ -391,17 +391,23 @@ def postgres():
 def farm(postgres, start_server, caustic_bin, tmp_path):
     """A factory of a scale-out on a fresh database: farm(workers=3, api_args=(), worker_args=())
     returns (api, [workers]): one `caustic serve --store ... --workers 0` and `workers` processes
-    of `caustic worker --threads 1`. Every process is stopped at the end of the test."""
+    of `caustic worker --threads 1`; api.start_worker(*args) starts one more on the same store.
+    Every process is stopped at the end of the test."""
     from farm import Worker
     started = []
 
     def make(workers=3, api_args=(), worker_args=()):
         store = postgres.create_database()
         api = start_server("--store", store, "--workers", "0", *api_args)
-        procs = [Worker(caustic_bin, store, str(tmp_path), "--threads", "1", *worker_args).start()
-                 for _ in range(workers)]
-        started.extend(procs)
+
+        def start_worker(*args):
+            worker = Worker(caustic_bin, store, str(tmp_path), "--threads", "1", *args)
+            started.append(worker)
+            return worker.start()
+
+        procs = [start_worker(*worker_args) for _ in range(workers)]
         api.store = store
+        api.start_worker = start_worker
         return api, procs
 
     yield make
