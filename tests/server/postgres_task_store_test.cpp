@@ -249,6 +249,18 @@ TEST_F(TaskStoreTest, CancellingEndsTheJobWhenItsLastRunningTaskIsGivenBack) {
     EXPECT_EQ(store_->cancel("q", 1003)->state, JobState::Cancelled);
 }
 
+TEST_F(TaskStoreTest, ATaskHandedInAfterItsJobsCancelEndsTheJob) {
+    // Handed in before its heartbeat saw the cancel: nothing else would end the job.
+    submit("j", 4, 2);
+    std::optional<ClaimedTask> c = claim("w");
+    ASSERT_TRUE(c);
+    store_->cancel("j", 1001);
+    EXPECT_EQ(store_->completeTask(c->task, resultOf(c->task, false), 1002), TaskCommit::Merged);
+    std::optional<Job> job = store_->get("j");
+    EXPECT_EQ(job->state, JobState::Cancelled);
+    EXPECT_EQ(job->passesDone, 2);  // kept, for a re-queue
+}
+
 TEST_F(TaskStoreTest, ARequeuedJobKeepsItsFinishedTasks) {
     submit("j", 6, 2);
     std::optional<ClaimedTask> first = claim("w");
