@@ -119,7 +119,7 @@ CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
     addFolder(*serve, "--scenes", c.scenesDir, "Example scenes, submittable by name");
     addFolder(*serve, "--web", c.webDir, "Static files of the web page");
     addFolder(*serve, "--docs", c.docsDir, "Documentation served at /docs/ (the scene format)");
-    cli::addStoreOptions(*serve, c);
+    cli::addStoreOptions(*serve, c, false);
     cli::addWorkOptions(*serve, c, 0);
     addStorageOptions(*serve, c.storage);
     addBrowserAndLogOptions(*serve, c);

@@ -25,12 +25,14 @@ void addWorkOptions(CLI::App& app, server::ServerConfig& c, int minWorkers) {
               "out-of-memory kills; SQLite)");
 }
 
-void addStoreOptions(CLI::App& app, server::ServerConfig& c) {
+void addStoreOptions(CLI::App& app, server::ServerConfig& c, bool required) {
     app.add_option("--store", c.store,
-                   "The job store: a PostgreSQL connection string (postgresql://user:password@"
-                   "host:port/database) shared by API and worker processes on any machine "
-                   "(default: SQLite in the data folder)")
+                   std::string("The job store: a PostgreSQL connection string (postgresql://"
+                               "user:password@host:port/database) shared by API and worker "
+                               "processes on any machine") +
+                       (required ? "" : " (default: SQLite in the data folder)"))
         ->type_name("URL")
+        ->required(required)
         ->envname("CAUSTIC_STORE")
         ->check(CLI::Validator(
             [](const std::string& v) {
@@ -40,7 +42,7 @@ void addStoreOptions(CLI::App& app, server::ServerConfig& c) {
                              "--store), got \"" +
                                  redactedStore(v) + "\"";
             },
-            "URL"));
+            ""));
     CLI::App& farm = *app.add_option_group("Scale-out (with --store postgresql://)");
     addNumber(farm, "--task-passes", c.taskPasses, 1, 1 << 20,
               "Passes per task of a job that sets no task_passes: a job's passes are rendered "

@@ -17,8 +17,9 @@ namespace caustic::cli {
 /// --workers (from `minWorkers`), --threads, --lease-seconds, --max-stalled-leases,
 /// --max-attempts.
 void addWorkOptions(CLI::App& app, server::ServerConfig& c, int minWorkers);
-/// --store and the scale-out's rules (--task-passes, --block-after-failures, ...).
-void addStoreOptions(CLI::App& app, server::ServerConfig& c);
+/// --store (`required` for a worker) and the scale-out's rules (--task-passes,
+/// --block-after-failures, ...).
+void addStoreOptions(CLI::App& app, server::ServerConfig& c, bool required);
 /// --log-level.
 void addLogLevelOption(CLI::App& app, server::ServerConfig& c);
 

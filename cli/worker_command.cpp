@@ -20,8 +20,7 @@ CLI::App* addWorkerCommand(CLI::App& app, server::ServerConfig& c) {
         "worker",
         "Renders tasks of the jobs in a PostgreSQL store (the API runs elsewhere: caustic serve "
         "--store ...) until SIGINT or SIGTERM; renders in progress give their tasks back.");
-    cli::addStoreOptions(*worker, c);
-    worker->get_option("--store")->required();
+    cli::addStoreOptions(*worker, c, true);
     cli::addWorkOptions(*worker, c, 1);
     c.assetsDir = CAUSTIC_DEFAULT_ASSETS_DIR;
     worker

@@ -14,7 +14,7 @@ using caustic::testing::runCli;
 TEST(ServeCommand, RejectsOutOfRangeFlagsWithExitCodeTwo) {
     // Each value breaks one rule of the number parser: range, whole, finite, full string.
     const char* cases[][2] = {{"--port", "70000"},        {"--port", "80.5"},
-                              {"--port", "8080x"},        {"--workers", "0"},
+                              {"--port", "8080x"},        {"--workers", "65"},
                               {"--lease-seconds", "nan"}, {"--lease-seconds", "inf"},
                               {"--max-photons", "1e10"},  {"--max-request-bytes", "-5"},
                               {"--max-memory-mib", "''"}};
@@ -59,12 +59,24 @@ TEST(ServeCommand, HelpStatesDefaultsAndRanges) {
     CliRun r = runCli("serve --help");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     for (const char* line :
-         {"--port INT in [0, 65535]=8080", "--workers INT in [1, 64]=1",
+         {"--port INT in [0, 65535]=8080", "--workers INT in [0, 64]=1", "--store URL",
+          "(Env:CAUSTIC_STORE)", "--task-passes INT in [1, 1048576]=8",
           "--lease-seconds NUMBER in [0.5, 3600]=10", "--max-spp INT in [1, 1000000]=65536",
           "--data DIR=data", "(Env:CAUSTIC_DATA)", "(Env:CAUSTIC_TOKEN)", "--allow-origin ORIGIN",
           "--log-level TEXT:{trace,debug,info,warning,error,critical,off}=info",
           "--access-log FILE|-"})
         EXPECT_NE(r.output.find(line), std::string::npos) << line << " not in:\n" << r.output;
+}
+
+TEST(WorkerCommand, NeedsAPostgresStoreAndAWorker) {
+    CliRun r = runCli("worker --help");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* line : {"--store URL REQUIRED", "--workers INT in [1, 64]=1",
+                             "--threads INT in [0, 1024]=0", "--block-after-failures"})
+        EXPECT_NE(r.output.find(line), std::string::npos) << line << " not in:\n" << r.output;
+    r = runCli("worker --store postgresql://127.0.0.1:1/x --workers 0");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("caustic worker: --workers: must be a ", 0), 0) << r.output;
 }
 
 TEST(CausticCommand, VersionHelpAndUsage) {
