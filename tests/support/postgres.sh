@@ -8,7 +8,9 @@
 #                                            With --watch, the cluster is stopped and FOLDER removed
 #                                            once process PID is gone (a test binary killed before
 #                                            it could say stop).
-#   postgres.sh restart FOLDER [immediate]   restarts it on the same port (immediate: as a crash).
+#   postgres.sh restart FOLDER [immediate]   restarts it on the same port (immediate: as a crash);
+#                                            starts it again after down.
+#   postgres.sh down FOLDER                  stops it (fast), keeping FOLDER: an outage.
 #   postgres.sh stop FOLDER                  stops it (if it runs) and removes FOLDER.
 #
 # Run as root (CI), the server runs as an unprivileged user, $CAUSTIC_PG_USER or Debian's
@@ -26,7 +28,7 @@ die() {
     exit 1
 }
 
-[ $# -ge 2 ] || die "usage: postgres.sh start|restart|stop FOLDER [...]"
+[ $# -ge 2 ] || die "usage: postgres.sh start|restart|down|stop FOLDER [...]"
 command=$1
 folder=$2
 shift 2
@@ -102,6 +104,9 @@ case $command in
         run "$bin/pg_ctl" -D "$folder/data" -l "$folder/server.log" -o "-p $(cat "$folder/port")" \
             -m "$mode" -w -t "$timeout_s" restart >/dev/null
         ;;
+    down)
+        run "$bin/pg_ctl" -D "$folder/data" -m fast -w -t "$timeout_s" stop >/dev/null
+        ;;
     stop)
         stop
         ;;
@@ -111,6 +116,6 @@ case $command in
         [ -d "$folder" ] && stop
         ;;
     *)
-        die "unknown command $command (start, restart, stop)"
+        die "unknown command $command (start, restart, down, stop)"
         ;;
 esac
