@@ -56,11 +56,12 @@ start() {
     run "$bin/initdb" -D "$folder/data" -U caustic --auth=scram-sha-256 \
         --pwfile="$folder/password" -E UTF8 --locale=C.UTF-8 >"$folder/initdb.log" 2>&1 ||
         die "initdb failed: $(tail -5 "$folder/initdb.log")"
+    # fsync off: only a crash of the machine could lose what is committed. synchronous_commit
+    # stays on: an immediate restart (as a crash) loses asynchronous commits already acknowledged.
     cat >>"$folder/data/postgresql.conf" <<EOF
 listen_addresses = '127.0.0.1'
 unix_socket_directories = ''
 fsync = off
-synchronous_commit = off
 full_page_writes = off
 max_connections = 100
 EOF
