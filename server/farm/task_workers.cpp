@@ -14,6 +14,7 @@
 #include "render/render_session.h"
 #include "scene/scene.h"
 #include "store/pass_images.h"
+#include "store/store_unavailable.h"
 
 namespace caustic::server {
 
@@ -118,6 +119,16 @@ void TaskWorkers::handIn(const std::string& worker, const Task& task, const Task
     }
 }
 
+void TaskWorkers::giveBack(const std::string& worker, const Task& task) {
+    // A store out of reach leaves the task to its lease, which expires: it is rendered again.
+    try {
+        store_.releaseTask(task, unixNow());
+    } catch (const std::exception& e) {
+        spdlog::warn("worker {}: giving back task {}-{} of job {}: {}", worker, task.firstPass,
+                     task.lastPass, task.jobId, e.what());
+    }
+}
+
 void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claimed, Cached& cache) {
     const Task& task = claimed.task;
     const Job& job = claimed.job;
@@ -159,7 +170,7 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
         counters_.passes += uint64_t(film->passes());
         counters_.renderSeconds.fetch_add(range.renderSeconds);
         if (range.stopReason == StopReason::Cancelled) {
-            if (!lease.lost) store_.releaseTask(task, unixNow());
+            if (!lease.lost) giveBack(worker, task);
             return;
         }
         if (cache.settings.targetError <= 0) result.film = film->toBytes();
@@ -168,10 +179,19 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
         result.renderSeconds = range.renderSeconds;
         handIn(worker, task, result);
     } catch (const RenderCancelled&) {
-        if (!lease.lost) store_.releaseTask(task, unixNow());
+        if (!lease.lost) giveBack(worker, task);
+    } catch (const StoreUnavailable& e) {
+        // Reading the job's assets or giving the task back: not the render's failure (no worker
+        // is blamed for PostgreSQL's outage); the lease expires and the task is rendered again.
+        spdlog::warn("worker {}: task {}-{} of job {}: {}; it will be rendered again", worker,
+                     task.firstPass, task.lastPass, job.id, e.what());
     } catch (const InputError& e) {
         cache = Cached{};
-        store_.failJob(task, e.what(), unixNow());
+        try {
+            store_.failJob(task, e.what(), unixNow());
+        } catch (const std::exception& again) {
+            spdlog::error("worker {}: failing job {}: {}", worker, job.id, again.what());
+        }
     } catch (const std::exception& e) {
         cache = Cached{};
         spdlog::warn("worker {}: task {}-{} of job {} failed: {}", worker, task.firstPass,

@@ -37,6 +37,7 @@ private:
     void run(int index);
     void renderTask(const std::string& worker, const ClaimedTask& claimed, Cached& cache);
     void handIn(const std::string& worker, const Task& task, const TaskResult& result);
+    void giveBack(const std::string& worker, const Task& task);
     FarmPolicy policy() const;
 
     const ServerConfig& config_;

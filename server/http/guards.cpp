@@ -10,6 +10,7 @@
 #include "http/problem.h"
 #include "http/same_origin.h"
 #include "store/storage_full.h"
+#include "store/store_unavailable.h"
 
 namespace caustic::server {
 namespace {
@@ -118,6 +119,10 @@ void installGuards(httplib::Server& http, const ServerConfig& config) {
                 std::rethrow_exception(ep);
             } catch (const StorageFull& e) {
                 return sendProblem(res, 507, e.what());  // RFC 4918, section 11.5
+            } catch (const StoreUnavailable& e) {
+                // PostgreSQL restarting or out of reach: worth trying again shortly.
+                res.set_header("Retry-After", "5");
+                return sendProblem(res, 503, e.what());
             } catch (const std::exception& e) {
                 what = std::string("internal error: ") + e.what();
             } catch (...) {

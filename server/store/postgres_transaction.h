@@ -1,7 +1,8 @@
 // Transactions of the PostgreSQL store (store/postgres_job_store.cpp, postgres_asset_store.cpp):
 // one connection behind the store's mutex, each operation one transaction, retried when PostgreSQL
 // aborts it for a deadlock or a serialization failure, or when the connection broke before the
-// commit (reconnecting first), and a full disk reported as StorageFull.
+// commit (reconnecting first), and a full disk reported as StorageFull, a store still out of reach
+// after the retries as StoreUnavailable.
 #pragma once
 
 #include <pqxx/pqxx>
@@ -15,6 +16,7 @@
 
 #include "store/job.h"
 #include "store/storage_full.h"
+#include "store/store_unavailable.h"
 
 namespace caustic::server::postgres {
 
@@ -55,10 +57,12 @@ auto transact(Connection& connection, std::mutex& mutex, F&& f) {
             if (attempt >= kTries) throw;
         } catch (const pqxx::in_doubt_error&) {
             throw;
-        } catch (const pqxx::broken_connection&) {
+        } catch (const pqxx::broken_connection& e) {
             // The server restarting, or a network cut: try again for about three seconds.
             connection.link.reset();
-            if (attempt >= kTries) throw;
+            if (attempt >= kTries)
+                throw StoreUnavailable(
+                    std::string("the job store (PostgreSQL) cannot be reached: ") + e.what());
             std::this_thread::sleep_for(std::chrono::milliseconds(100 << attempt));
         } catch (const pqxx::disk_full& e) {
             throw StorageFull(

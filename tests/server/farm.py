@@ -49,6 +49,13 @@ class PostgresCluster:
         if out.returncode != 0:
             raise RuntimeError("postgres.sh restart failed:\n" + out.stdout + out.stderr)
 
+    def down(self):
+        """Stops the server, keeping its data (an outage); restart() starts it again."""
+        out = subprocess.run(["bash", POSTGRES_SH, "down", self.folder], capture_output=True,
+                             text=True, timeout=120)
+        if out.returncode != 0:
+            raise RuntimeError("postgres.sh down failed:\n" + out.stdout + out.stderr)
+
     def stop(self):
         subprocess.run(["bash", POSTGRES_SH, "stop", self.folder], capture_output=True,
                        timeout=120)

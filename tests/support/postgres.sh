@@ -8,7 +8,9 @@
 #                                            With --watch, the cluster is stopped and FOLDER removed
 #                                            once process PID is gone (a test binary killed before
 #                                            it could say stop).
-#   postgres.sh restart FOLDER [immediate]   restarts it on the same port (immediate: as a crash).
+#   postgres.sh restart FOLDER [immediate]   restarts it on the same port (immediate: as a crash);
+#                                            starts it again after down.
+#   postgres.sh down FOLDER                  stops it (fast), keeping FOLDER: an outage.
 #   postgres.sh stop FOLDER                  stops it (if it runs) and removes FOLDER.
 #
 # Run as root (CI), the server runs as an unprivileged user, $CAUSTIC_PG_USER or Debian's
@@ -26,7 +28,7 @@ die() {
     exit 1
 }
 
-[ $# -ge 2 ] || die "usage: postgres.sh start|restart|stop FOLDER [...]"
+[ $# -ge 2 ] || die "usage: postgres.sh start|restart|down|stop FOLDER [...]"
 command=$1
 folder=$2
 shift 2
@@ -54,11 +56,12 @@ start() {
     run "$bin/initdb" -D "$folder/data" -U caustic --auth=scram-sha-256 \
         --pwfile="$folder/password" -E UTF8 --locale=C.UTF-8 >"$folder/initdb.log" 2>&1 ||
         die "initdb failed: $(tail -5 "$folder/initdb.log")"
+    # fsync off: only a crash of the machine could lose what is committed. synchronous_commit
+    # stays on: an immediate restart (as a crash) loses asynchronous commits already acknowledged.
     cat >>"$folder/data/postgresql.conf" <<EOF
 listen_addresses = '127.0.0.1'
 unix_socket_directories = ''
 fsync = off
-synchronous_commit = off
 full_page_writes = off
 max_connections = 100
 EOF
@@ -102,6 +105,9 @@ case $command in
         run "$bin/pg_ctl" -D "$folder/data" -l "$folder/server.log" -o "-p $(cat "$folder/port")" \
             -m "$mode" -w -t "$timeout_s" restart >/dev/null
         ;;
+    down)
+        run "$bin/pg_ctl" -D "$folder/data" -m fast -w -t "$timeout_s" stop >/dev/null
+        ;;
     stop)
         stop
         ;;
@@ -111,6 +117,6 @@ case $command in
         [ -d "$folder" ] && stop
         ;;
     *)
-        die "unknown command $command (start, restart, stop)"
+        die "unknown command $command (start, restart, down, stop)"
         ;;
 esac
