@@ -142,13 +142,18 @@ void timed(benchmark::State& state, Row& row, F&& call) {
     row.ms.push_back(seconds * 1000);
 }
 
-// The stored size of each of a job's files, by name.
+// The size of each of a job's files, by name, and of its film.bin as stored (TOAST may compress
+// it) under "film.bin stored".
 std::map<std::string, double> fileBytes(const std::string& jobId) {
     std::map<std::string, double> sizes;
     pqxx::nontransaction tx(*sql);
-    for (const pqxx::row& r :
-         tx.exec_params("SELECT name, octet_length(data) FROM job_files WHERE job_id = $1", jobId))
+    for (const pqxx::row& r : tx.exec_params(
+             "SELECT name, octet_length(data), pg_column_size(data) FROM job_files WHERE job_id "
+             "= $1",
+             jobId)) {
         sizes[r[0].as<std::string>()] = r[1].as<double>();
+        sizes[r[0].as<std::string>() + " stored"] = r[2].as<double>();
+    }
     return sizes;
 }
 
@@ -231,6 +236,7 @@ void BM_Complete(benchmark::State& state) {
     const std::map<std::string, double> files = fileBytes(job.id);
     row.bytes["result film bytes"] = double(result.film.size());
     row.bytes["film.bin bytes (read + written)"] = files.at("film.bin");
+    row.bytes["film.bin stored bytes"] = files.at("film.bin stored");
     row.bytes["preview.png bytes"] = files.at("preview.png");
     finish(state, std::move(row), job);
 }
