@@ -2,7 +2,9 @@
 #include <sstream>
 
 #include "http/routes.h"
+#include "jobs/clock.h"
 #include "store/disk_space.h"
+#include "store/farm_store.h"
 
 namespace caustic::server {
 namespace {
@@ -38,6 +40,20 @@ void storageMetrics(ApiContext& api, std::ostream& out) {
         << "caustic_retention_assets_removed_total " << api.storage.assetsRemoved.load() << "\n";
 }
 
+// A store shared with worker processes (PostgreSQL): the work waiting for them, and how many are
+// alive, to scale workers on.
+void farmMetrics(FarmStore& farm, std::ostream& out) {
+    const double now = unixNow();
+    out << "# HELP caustic_queued_tasks Tasks (pass ranges of split jobs) waiting for a worker, "
+           "expired leases included.\n"
+           "# TYPE caustic_queued_tasks gauge\n"
+        << "caustic_queued_tasks " << farm.queuedTasks(now) << "\n"
+        << "# HELP caustic_workers Worker threads of every process that renewed their row in the "
+           "last 30 s (GET /api/workers).\n"
+           "# TYPE caustic_workers gauge\n"
+        << "caustic_workers " << farm.listWorkers(now - kWorkerAliveSeconds).size() << "\n";
+}
+
 std::string metricsText(ApiContext& api) {
     std::map<JobState, int64_t> counts = api.jobs.countByState();
     std::ostringstream out;
@@ -65,6 +81,7 @@ std::string metricsText(ApiContext& api) {
            "new or changed file each).\n"
            "# TYPE caustic_mesh_scans_total counter\n"
         << "caustic_mesh_scans_total " << api.jobs.meshScans() << "\n";
+    if (api.farm) farmMetrics(*api.farm, out);
     storageMetrics(api, out);
     return out.str();
 }

@@ -103,6 +103,7 @@ public:
     void workerSeen(const WorkerInfo& worker);
     void workerGone(const std::string& id);
     std::vector<WorkerInfo> listWorkers(double seenSince) override;
+    int64_t queuedTasks(double now) override;
 
 private:
     std::unique_ptr<postgres::Connection> connection_;

@@ -335,12 +335,12 @@ bool PostgresJobStore::failJob(const Task& task, const std::string& error, doubl
 
 std::optional<Job> PostgresJobStore::requeue(const std::string& id) {
     return transact(*connection_, mutex_, [&](pqxx::work& tx) -> std::optional<Job> {
-        // Its time limit counts again from its next start.
+        // Its time limit counts again from the next claim (started_at 0): counted from the
+        // first start, a limit that passed while the job waited would end it after one task.
         if (tx.exec_params("UPDATE jobs SET state = 'queued', error = '', finished_at = 0, "
                            "started_at = 0, cancel_requested = FALSE, stalled_leases = 0, "
-                           "eta_seconds = -1 "
-                           "WHERE id = $1 AND state IN ('failed', 'cancelled') AND task_passes "
-                           "> 0",
+                           "eta_seconds = -1 WHERE id = $1 AND state IN ('failed', 'cancelled') "
+                           "AND task_passes > 0",
                            id)
                 .affected_rows() > 0) {
             tx.exec_params(
@@ -398,6 +398,18 @@ std::vector<WorkerInfo> PostgresJobStore::listWorkers(double seenSince) {
             workers.push_back(std::move(w));
         }
         return workers;
+    });
+}
+
+int64_t PostgresJobStore::queuedTasks(double now) {
+    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+        return tx
+            .exec_params1(
+                "SELECT COUNT(*) FROM tasks t JOIN jobs j ON j.id = t.job_id WHERE (t.state = "
+                "'queued' OR (t.state = 'running' AND t.lease_expires <= $1)) AND j.state IN "
+                "('queued', 'running') AND NOT j.cancel_requested",
+                now)[0]
+            .as<int64_t>();
     });
 }
 

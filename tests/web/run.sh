@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# Browser tests of the web page (tests/web/web.test.mjs) and of the rules against other web sites
-# (tests/web/safety.test.mjs, one file after the other): starts the real `caustic serve` on
-# 127.0.0.1 (a free port, a temporary data folder, small limits), runs the tests in Debian's
-# Chromium, headless, through playwright-core, and stops the server. Bounded in time.
+# Browser tests of the web page (tests/web/web.test.mjs), of the rules against other web sites
+# (tests/web/safety.test.mjs) and of the Workers panel (tests/web/workers.test.mjs), one file after
+# the other: starts the real `caustic serve` on 127.0.0.1 (a free port, a temporary data folder,
+# small limits), runs the tests in Debian's Chromium, headless, through playwright-core, and stops
+# the server. The Workers panel is tested again on a scale-out when PostgreSQL's server is installed
+# and the binary has the PostgreSQL store: a throwaway cluster (tests/support/postgres.sh), `caustic
+# serve --store ... --workers 0` and one `caustic worker`. Bounded in time.
 # Usage: tests/web/run.sh [CAUSTIC_BINARY]   (default build/cli/caustic)
 # Needs node, npm and chromium (scripts/install-deps.sh). playwright-core is installed once, with
 # `npm ci` from tests/web/package-lock.json, into BUILD/web-tests; screenshots go to
@@ -32,38 +35,59 @@ if [ ! -f "$modules/node_modules/playwright-core/package.json" ] ||
 fi
 
 work="$(mktemp -d "${TMPDIR:-/tmp}/caustic-web.XXXXXX")"
-server_pid=""
-stop_server() {
-    if [ -n "$server_pid" ] && kill -0 "$server_pid" 2>/dev/null; then
-        kill "$server_pid" 2>/dev/null || true
-        for _ in $(seq 100); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.1; done
-        kill -9 "$server_pid" 2>/dev/null || true
-        wait "$server_pid" 2>/dev/null || true
+pg=""      # the PostgreSQL cluster's folder, under /tmp (its user must get through the parents)
+pids=()    # every process started here, stopped in reverse order
+stop_process() {
+    local pid=$1
+    if kill -0 "$pid" 2>/dev/null; then
+        kill "$pid" 2>/dev/null || true
+        for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+        kill -9 "$pid" 2>/dev/null || true
+        wait "$pid" 2>/dev/null || true
     fi
-    server_pid=""
 }
-trap 'stop_server; rm -rf "$work"' EXIT
+stop_all() {
+    for ((i = ${#pids[@]} - 1; i >= 0; i--)); do stop_process "${pids[i]}"; done
+    pids=()
+    [ -z "$pg" ] || bash "$repo/tests/support/postgres.sh" stop "$pg" || true
+}
+trap 'stop_all; rm -rf "$work"' EXIT
+
+# Waits until line pattern $2 appears in file $1 (written by process $3); prints the match.
+wait_for_line() {
+    local match=""
+    for _ in $(seq 300); do
+        match="$(grep -o "$2" "$1" 2>/dev/null | head -1 || true)"
+        [ -n "$match" ] && break
+        kill -0 "$3" 2>/dev/null || break
+        sleep 0.1
+    done
+    echo "$match"
+}
+
+# Starts `caustic serve` with data in folder $1 and more options; sets server_url (not run in a
+# subshell, so that pids keeps the process).
+max_spp=4096
+start_server() {
+    local data=$1
+    shift
+    "$caustic" serve --host 127.0.0.1 --port 0 --data "$data" --web "$repo/web" \
+        --scenes "$repo/scenes" --threads 2 --max-spp "$max_spp" --max-resolution 512 \
+        --max-pixels 262144 --max-photons 1000000 --max-time-limit 120 --max-queued 20 "$@" \
+        >"$data.out" 2>"$data.log" &
+    pids+=($!)
+    server_url="$(wait_for_line "$data.out" 'http://127\.0\.0\.1:[0-9]*/' $!)"
+    if [ -z "$server_url" ]; then
+        echo "web tests: caustic serve did not start:" >&2
+        cat "$data.log" >&2
+        return 1
+    fi
+    echo "web tests: caustic serve at $server_url"
+}
 
 # Small limits keep every job cheap; the tests read --max-spp back from CAUSTIC_WEB_MAX_SPP.
-max_spp=4096
-"$caustic" serve --host 127.0.0.1 --port 0 --data "$work/data" --web "$repo/web" \
-    --scenes "$repo/scenes" --workers 1 --threads 2 --max-spp "$max_spp" --max-resolution 512 \
-    --max-pixels 262144 --max-photons 1000000 --max-time-limit 120 --max-queued 20 \
-    >"$work/server.out" 2>"$work/server.log" &
-server_pid=$!
-url=""
-for _ in $(seq 300); do
-    url="$(grep -o 'http://127\.0\.0\.1:[0-9]*/' "$work/server.out" 2>/dev/null | head -1 || true)"
-    [ -n "$url" ] && break
-    kill -0 "$server_pid" 2>/dev/null || break
-    sleep 0.1
-done
-if [ -z "$url" ]; then
-    echo "web tests: caustic serve did not start:" >&2
-    cat "$work/server.log" >&2
-    exit 1
-fi
-echo "web tests: caustic serve at $url"
+start_server "$work/data" --workers 1 || exit 1
+url=$server_url
 
 status=0
 export CAUSTIC_WEB_URL="$url" CAUSTIC_WEB_NODE_MODULES="$modules/node_modules" CHROMIUM="$chromium" \
@@ -71,8 +95,32 @@ export CAUSTIC_WEB_URL="$url" CAUSTIC_WEB_NODE_MODULES="$modules/node_modules" C
 # One file after the other: they share the server and its one worker.
 timeout -k 10 600 node --test --test-reporter=spec "$repo/tests/web/web.test.mjs" || status=$?
 timeout -k 10 180 node --test --test-reporter=spec "$repo/tests/web/safety.test.mjs" || status=$?
+CAUSTIC_WEB_STORE=sqlite timeout -k 10 120 node --test --test-reporter=spec \
+    "$repo/tests/web/workers.test.mjs" || status=$?
 if [ "$status" -ne 0 ]; then
     echo "web tests: failed ($status); the server's log:" >&2
-    tail -n 40 "$work/server.log" >&2
+    tail -n 40 "$work/data.log" >&2
+fi
+
+# The Workers panel on a scale-out.
+if [ ! -x "${CAUSTIC_PG_BIN:-/usr/lib/postgresql/15/bin}/initdb" ]; then
+    echo "web tests: no PostgreSQL server installed: the scale-out page test is skipped"
+elif ! "$caustic" worker --help >/dev/null 2>&1; then
+    echo "web tests: this binary has no caustic worker: the scale-out page test is skipped"
+else
+    pg="$(mktemp -d /tmp/caustic-web-pg.XXXXXX)"
+    store="$(bash "$repo/tests/support/postgres.sh" start "$pg" --watch $$ | tail -1)"
+    start_server "$work/pgdata" --store "$store" --workers 0 || exit 1
+    "$caustic" worker --store "$store" --workers 1 --threads 2 >"$work/worker.out" \
+        2>"$work/worker.log" &
+    pids+=($!)
+    [ -n "$(wait_for_line "$work/worker.out" 'caustic: worker rendering' $!)" ] ||
+        { echo "web tests: caustic worker did not start:" >&2; cat "$work/worker.log" >&2; exit 1; }
+    CAUSTIC_WEB_URL="$server_url" CAUSTIC_WEB_STORE=postgresql timeout -k 10 240 node --test \
+        --test-reporter=spec "$repo/tests/web/workers.test.mjs" || {
+        status=$?
+        echo "web tests: the scale-out page test failed; the API's and the worker's logs:" >&2
+        tail -n 20 "$work/pgdata.log" "$work/worker.log" >&2
+    }
 fi
 exit "$status"

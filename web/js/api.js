@@ -88,4 +88,6 @@ export const api = {
   /** Uploads a mesh File; onProgress(fraction sent). Resolves to the asset (new or known). */
   uploadAsset: (file, onProgress = () => {}) => upload(file, onProgress),
   removeAsset: id => request('DELETE', asset(id)),
+  /** {store: 'sqlite' | 'postgresql', workers: [...]}: the worker threads sharing the store. */
+  workers: () => request('GET', '/api/workers'),
 };

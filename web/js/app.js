@@ -1,5 +1,5 @@
-// The Caustic page: wires the scene editor and the settings form (submit), the queue, the viewer,
-// the comparison and the uploaded meshes together. Validation errors from the server
+// The Caustic page: wires the scene editor, the settings form and the scheduling fields (submit),
+// the queue, the viewer, the comparison, the uploaded meshes and the workers together. Validation errors from the server
 // (problem+json) are shown where their `pointer` says: a setting's message beside its input, a
 // scene path under the editor.
 import {api, ApiError, setToken} from './api.js';
@@ -10,8 +10,10 @@ import {Jobs} from './jobs.js';
 import {QueueView} from './queue.js';
 import {locate} from './locate.js';
 import {meshShapeFor} from './placement.js';
+import {SchedulingFields} from './scheduling.js';
 import {SettingsForm} from './settings.js';
 import {Viewer} from './viewer.js';
+import {WorkersPanel} from './workers.js';
 
 const $ = sel => document.querySelector(sel);
 
@@ -39,6 +41,8 @@ const viewer = new Viewer($('#viewer'), jobs);
 const compare = new Compare($('#compare'), jobs, reportError);
 const queue = new QueueView($('#jobs'), $('#jobs-empty'), jobs, {onOpen: openJob, onError: reportError});
 const assets = new AssetsPanel($('#assets-panel'), {onInsert: insertAsset, onUnauthorized: askForToken});
+const workers = new WorkersPanel($('#workers-panel'), {onOpen: openJob});
+const scheduling = new SchedulingFields($('#job-options'));
 const OFFLINE = 'The server does not answer';
 jobs.addEventListener('offline', e => showNotice(`${OFFLINE} (${e.detail.message}); retrying.`));
 jobs.addEventListener('online', () => {
@@ -184,6 +188,7 @@ function clearErrors() {
   sceneErrors.replaceChildren();
   sceneText.removeAttribute('aria-invalid');
   form.clearErrors();
+  scheduling.clearErrors();
   $('#form-error').textContent = '';
 }
 
@@ -198,6 +203,7 @@ function showProblem(e) {
     return;
   }
   if (pointer === '/scene' || pointer.startsWith('/scene/')) return showSceneError(pointer, message);
+  if (scheduling.showError(pointer, message)) return;
   $('#form-error').textContent = pointer ? `${pointer}: ${message}` : message;
 }
 
@@ -223,10 +229,12 @@ formEl.addEventListener('submit', async e => {
   }
   const settings = form.values();
   if (!settings) return form.focusFirstError();
+  const jobFields = scheduling.values();
+  if (!jobFields) return;
   const button = $('#submit-button');
   button.disabled = true;
   try {
-    const job = await api.submit({scene, settings});
+    const job = await api.submit({scene, settings, ...jobFields});
     if (typeof scene === 'object' && sceneSelect.value) rememberSceneLabel(job.id, `${sceneSelect.value} (edited)`);
     jobs.add(job);
     openJob(job.id);
@@ -247,7 +255,8 @@ try {
 } catch (e) {
   reportError(e);
 }
-await Promise.all([jobs.refresh(), assets.refresh()]);
+const [, , store] = await Promise.all([jobs.refresh(), assets.refresh(), workers.refresh()]);
+scheduling.setStore(store);
 const fromHash = /^#job=([0-9a-f]{32})$/.exec(location.hash)?.[1];
 const first = (fromHash && jobs.get(fromHash)) || jobs.list()[0];
 if (first) openJob(first.id);
