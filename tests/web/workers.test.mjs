@@ -22,25 +22,27 @@ function countWorkerRequests(page) {
   return counter;
 }
 
-test('SQLite: the Workers panel says one process renders, and the form has no scheduling fields',
+test('SQLite: the Workers panel says one process renders, and the form has priority only',
   {skip: STORE !== 'sqlite'}, async () => {
     const {page, close} = await openPage();
     const panel = page.locator('#workers-panel');
     await page.waitForSelector('#workers-panel[data-store=sqlite]');
     assert.match(await panel.locator('#workers-note').textContent(), /^One process \(SQLite\)/);
     assert.equal(await panel.locator('.worker').count(), 0);
-    assert.equal(await page.locator('#job-options').isHidden(), true, 'no priority with SQLite');
+    assert.equal(await page.locator('#j-priority').isVisible(), true, 'SQLite claims by priority');
+    assert.equal(await page.locator('#j-task_passes').isHidden(), true, 'no tasks with SQLite');
     // The store cannot change under a running server: the page asks once.
     const asked = countWorkerRequests(page);
     await page.waitForTimeout(4000);
     assert.equal(asked.n, 0, 'no refresh with SQLite');
-    // A job submitted from the form carries no scheduling fields.
+    // A job submitted from the form carries its priority, no task_passes.
     await selectExample(page, 'cornell-box');
     await smallScene(page, 16);
     await page.fill('#s-spp', '1');
     const {status, body, request} = await submit(page);
     assert.equal(status, 202);
-    assert.deepEqual(Object.keys(JSON.parse(request.postData())).sort(), ['scene', 'settings']);
+    assert.deepEqual(Object.keys(JSON.parse(request.postData())).sort(),
+                     ['priority', 'scene', 'settings']);
     await page.waitForSelector(`${itemOf(body.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
     await close();
   });

@@ -1,6 +1,6 @@
 // The job's own fields beside its scene and settings (server/http/openapi.json, JobRequest):
-// `priority` and `task_passes`, which only a PostgreSQL store uses, so the form shows them only
-// there.
+// `priority` (every store claims by it) and `task_passes`, which only a PostgreSQL store uses, so
+// the form shows it only there.
 
 const FIELDS = ['priority', 'task_passes'];
 
@@ -11,8 +11,11 @@ export class SchedulingFields {
     for (const [name, input] of this.inputs) input.addEventListener('input', () => this.clearError(name));
   }
 
-  /** Shown (and sent) with a PostgreSQL store only. */
-  setStore(store) { this.fieldset.hidden = store !== 'postgresql'; }
+  /** Shown once the store is known; task_passes (shown and sent) with a PostgreSQL store only. */
+  setStore(store) {
+    this.fieldset.hidden = false;
+    this.inputs.get('task_passes').closest('.field').hidden = store !== 'postgresql';
+  }
 
   /** The fields to add to the job's body ({} when hidden; an empty task_passes is the server's
    *  default), or null after marking an invalid one. */
@@ -20,6 +23,7 @@ export class SchedulingFields {
     if (this.fieldset.hidden) return {};
     const out = {};
     for (const [name, input] of this.inputs) {
+      if (input.closest('.field').hidden) continue;
       if (input.value.trim() === '') {
         if (name === 'task_passes') continue;
         input.value = '0';
