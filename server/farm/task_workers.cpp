@@ -76,12 +76,17 @@ void TaskWorkers::run(int index) {
     me.threads = config_.renderThreads > 0 ? config_.renderThreads : me.cores;
     me.startedAt = unixNow();
     Cached cache;
+    double lastSeen = 0;
     while (!stopping_) {
         std::optional<ClaimedTask> claimed;
         try {
+            // Idle, the worker's row is renewed once a second (claims poll 4 times a second).
             me.lastSeen = unixNow();
-            me.current.reset();
-            store_.workerSeen(me);
+            if (me.current || me.lastSeen - lastSeen >= 1.0) {
+                me.current.reset();
+                store_.workerSeen(me);
+                lastSeen = me.lastSeen;
+            }
             claimed = store_.claimTask(me.id, unixNow(), policy());
         } catch (const std::exception& e) {
             spdlog::error("worker {}: claiming a task: {}", me.id, e.what());

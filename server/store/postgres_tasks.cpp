@@ -365,6 +365,8 @@ void PostgresJobStore::workerSeen(const WorkerInfo& w) {
             "= excluded.first_pass, last_pass = excluded.last_pass",
             w.id, w.host, w.cores, w.threads, w.startedAt, w.lastSeen, t.jobId, t.firstPass,
             t.lastPass);
+        // Rows of workers killed without a goodbye go after a day.
+        tx.exec_params("DELETE FROM workers WHERE last_seen < $1", w.lastSeen - 86400);
         return 0;
     });
 }
