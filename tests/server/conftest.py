@@ -77,7 +77,35 @@ def pytest_addoption(parser):
                      "or build/cli/caustic)")
 
 
-class Server:
+class Process:
+    """A caustic process started in a session of its own, its messages in self.log_path."""
+
+    proc = None
+    log_path = None
+
+    def log(self):
+        try:
+            with open(self.log_path, encoding="utf-8", errors="replace") as f:
+                return f.read()[-4000:]
+        except OSError:
+            return ""
+
+    def alive(self):
+        return self.proc is not None and self.proc.poll() is None
+
+    def terminate(self, timeout):
+        """SIGTERM, then SIGKILL after `timeout` seconds."""
+        if not self.alive():
+            return
+        os.killpg(self.proc.pid, signal.SIGTERM)
+        try:
+            self.proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+            self.proc.wait(timeout=timeout)
+
+
+class Server(Process):
     """One `caustic serve` process."""
 
     def __init__(self, binary, workdir, args=(), env=None):
@@ -124,26 +152,9 @@ class Server:
                 raise RuntimeError("caustic serve never answered /healthz:\n" + self.log())
             time.sleep(0.05)
 
-    def log(self):
-        try:
-            with open(self.log_path, encoding="utf-8", errors="replace") as f:
-                return f.read()[-4000:]
-        except OSError:
-            return ""
-
-    def alive(self):
-        return self.proc is not None and self.proc.poll() is None
-
     def stop(self):
         self.session.close()
-        if not self.alive():
-            return
-        os.killpg(self.proc.pid, signal.SIGTERM)
-        try:
-            self.proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            os.killpg(self.proc.pid, signal.SIGKILL)
-            self.proc.wait(timeout=15)
+        self.terminate(15)
 
     # Requests, each with a timeout.
     def url(self, path):

@@ -10,7 +10,7 @@ import tempfile
 import time
 import uuid
 
-from conftest import ROOT
+from conftest import ROOT, Process
 
 POSTGRES_SH = os.path.join(ROOT, "tests", "support", "postgres.sh")
 
@@ -61,7 +61,7 @@ class PostgresCluster:
                        timeout=120)
 
 
-class Worker:
+class Worker(Process):
     """One `caustic worker` process on a store."""
 
     def __init__(self, binary, store, workdir, *args):
@@ -88,16 +88,6 @@ class Worker:
                 raise RuntimeError("caustic worker did not start in time:\n" + self.log())
             time.sleep(0.05)
 
-    def log(self):
-        try:
-            with open(self.log_path, encoding="utf-8", errors="replace") as f:
-                return f.read()[-4000:]
-        except OSError:
-            return ""
-
-    def alive(self):
-        return self.proc is not None and self.proc.poll() is None
-
     def kill(self, sig=signal.SIGKILL):
         if self.alive():
             os.killpg(self.proc.pid, sig)
@@ -105,10 +95,4 @@ class Worker:
 
     def stop(self):
         """SIGTERM: renders in progress give their tasks back."""
-        if not self.alive():
-            return
-        os.killpg(self.proc.pid, signal.SIGTERM)
-        try:
-            self.proc.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            self.kill()
+        self.terminate(30)
