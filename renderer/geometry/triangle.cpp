@@ -1,5 +1,6 @@
 #include "geometry/triangle.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace caustic {
@@ -21,13 +22,18 @@ Vec3 permute(const Vec3& v, int x, int y, int z) {
     return Vec3(v[x], v[y], v[z]);
 }
 
-// The float bound cannot tell t from zero: decide in double with the triangle's plane. The inputs
-// are floats, so the plane distance is exact to a few ulps of double; accepting only t above that
-// bound keeps a ray that starts on the triangle (after its origin offset) from hitting it, while a
-// real hit 1e-5 in front, at a crease or a room's corner, is no longer lost (pbrt-v4's bound grows
-// with the triangle's size and rejects those: light leaks at corners).
+// The barycentric t cannot tell the hit from the ray's origin: decide in double with the
+// triangle's plane. The inputs are floats, so the plane distance is exact to a few ulps of double;
+// accepting only t above that bound keeps a ray that starts on the triangle (after its origin
+// offset) from hitting it, while a real hit 1e-5 in front, at a crease or a room's corner, is no
+// longer lost (pbrt-v4's bound grows with the triangle's size and rejects those: light leaks at
+// corners). A ray that grazes the plane meets it anywhere, perhaps far outside the triangle and
+// its box, where an accelerator culling by boxes never looks: the plane's t must also agree with
+// the barycentric t (`tBary`) within that one's error (`errT`), which places the hit on the
+// triangle.
 std::optional<TriangleHit> decideNearOrigin(const Ray& ray, float tMax, const Vec3& p0,
-                                            const Vec3& p1, const Vec3& p2, TriangleHit hit) {
+                                            const Vec3& p1, const Vec3& p2, double tBary,
+                                            double errT, TriangleHit hit) {
     glm::dvec3 a(p0), o(ray.o), d(ray.d);
     glm::dvec3 n = glm::cross(glm::dvec3(p1) - a, glm::dvec3(p2) - a);
     double denom = glm::dot(n, d);
@@ -35,17 +41,22 @@ std::optional<TriangleHit> decideNearOrigin(const Ray& ray, float tMax, const Ve
     double t = glm::dot(n, a - o) / denom;
     double bound = 16.0 * std::numeric_limits<double>::epsilon() *
                    glm::dot(glm::abs(n), glm::abs(a) + glm::abs(o)) / std::abs(denom);
-    if (!(t > bound)) return std::nullopt;
+    if (!(t > bound && std::abs(t - tBary) <= errT + bound)) return std::nullopt;
     hit.t = static_cast<float>(t);
     if (!(hit.t > 0.0f && hit.t < tMax)) return std::nullopt;
     return hit;
 }
 
 // The edge test in double for edge functions the float test cannot sign: a ray through an edge or
-// a vertex (pbrt-v4 recomputes those in double too), or a tiny triangle. Each product of two floats
-// is exact in double, so each edge function is rounded once and its sign is right: a ray exactly
-// on a shared edge hits one of the two triangles, and none outside. t comes from the plane.
-std::optional<TriangleHit> intersectInDouble(const Ray& ray, float tMax, const Vec3& p0t,
+// a vertex (pbrt-v4 recomputes those in double too), a tiny triangle, or a ray in the triangle's
+// plane. Each product of two floats is exact in double, so each edge function is rounded once and
+// its sign is right: a ray exactly on a shared edge hits one of the two triangles, and none
+// outside. The barycentrics are then exact to double precision for the translated triangle, and
+// so is t, their blend of the vertices' depths (1 / d_z scales a depth to t): the hit lies
+// on the triangle even for a ray in its plane, whose t from the plane is anywhere. Translating the
+// vertices to the origin in float moved them by half an ulp of their coordinates, and the plane
+// decides a t within that of zero.
+std::optional<TriangleHit> intersectInDouble(const WatertightRay& wr, float tMax, const Vec3& p0t,
                                              const Vec3& p1t, const Vec3& p2t, const Vec3& p0,
                                              const Vec3& p1, const Vec3& p2) {
     auto edge = [](const Vec3& a, const Vec3& b) {
@@ -56,7 +67,16 @@ std::optional<TriangleHit> intersectInDouble(const Ray& ray, float tMax, const V
     double det = e0 + e1 + e2;
     if (det == 0.0) return std::nullopt;
     TriangleHit hit{float(e0 / det), float(e1 / det), float(e2 / det), 0.0f};
-    return decideNearOrigin(ray, tMax, p0, p1, p2, hit);
+    const double sz = wr.sz;
+    double tBary = (e0 * p0t.z + e1 * p1t.z + e2 * p2t.z) * sz / det;
+    double maxDepth = std::max({std::abs(p0[wr.kz]), std::abs(p1[wr.kz]), std::abs(p2[wr.kz])});
+    double errT =
+        4.0 * std::numeric_limits<float>::epsilon() * std::abs(sz) * (maxDepth + std::abs(wr.oz));
+    if (tBary < -errT) return std::nullopt;
+    if (tBary <= errT) return decideNearOrigin(wr.ray, tMax, p0, p1, p2, tBary, errT, hit);
+    hit.t = float(tBary);
+    if (!(hit.t > 0.0f && hit.t < tMax)) return std::nullopt;
+    return hit;
 }
 
 }  // namespace
@@ -102,7 +122,7 @@ std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax
     float e2 = differenceOfProducts(p0t.x, p1t.y, p0t.y, p1t.x);
     constexpr float kSmallest = std::numeric_limits<float>::min();
     if (std::abs(e0) < kSmallest || std::abs(e1) < kSmallest || std::abs(e2) < kSmallest)
-        return intersectInDouble(wr.ray, tMax, p0t, p1t, p2t, p0, p1, p2);
+        return intersectInDouble(wr, tMax, p0t, p1t, p2t, p0, p1, p2);
     if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return std::nullopt;
     float det = e0 + e1 + e2;
     // Scaled distance, compared against the range without dividing.
@@ -134,7 +154,7 @@ std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax
     if (hit.t < -deltaT) return std::nullopt;
     // Too close to the origin for the float bound: decide t, and compare it with tMax, in double,
     // so that intersect() and occluded() agree on the same t.
-    return decideNearOrigin(wr.ray, tMax, p0, p1, p2, hit);
+    return decideNearOrigin(wr.ray, tMax, p0, p1, p2, hit.t, deltaT, hit);
 }
 
 }  // namespace caustic

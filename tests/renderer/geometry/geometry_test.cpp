@@ -88,6 +88,33 @@ TEST(Triangle, EdgeFunctionsThatUnderflowAreDecidedInDouble) {
     EXPECT_TRUE(g.intersect(0, Ray{Vec3(-0.25f, 0.5f, 0), Vec3(0, -1, 0)}, kInfinity));
 }
 
+// Found by fuzz_obj: a ray in the plane of a triangle (to within rounding) through its vertex
+// (1, 0, 0), at t = 2.5. The projected triangle is a sliver, its edge functions are decided in
+// double, and t came from the plane, which such a ray meets anywhere: 1.53, outside the triangle
+// and its box, where the kd-tree never looked. t is now the blend of the vertices' depths.
+TEST(Triangle, ARayInItsPlaneHitsInsideIt) {
+    Geometry g;
+    g.addTriangles({Vec3(0, 0, 0), Vec3(0, 1, 1e-4f), Vec3(1, 0, 0)}, {glm::uvec3(0, 1, 2)}, 0);
+    Ray ray{Vec3(3, 1.5f, 0.000149999993f), Vec3(-0.800000012f, -0.600000024f, -5.99999985e-05f)};
+    auto h = g.intersect(0, ray, kInfinity);
+    ASSERT_TRUE(h);
+    EXPECT_NEAR(h->t, 2.5f, 1e-6f);
+}
+
+// Also found by fuzz_obj: a ray in the plane z = 0 through the vertex (0, 0, 0) of a triangle
+// tilted 1e-43 out of that plane, which straddles the ray's origin in depth. The plane's t was
+// 0.63, a point outside the triangle; a hit may only be at the vertex (t = 0.7071).
+TEST(Triangle, ARayInItsPlaneThroughAVertexHitsNowhereElse) {
+    Geometry g;
+    g.addTriangles({Vec3(0, 0, 0), Vec3(0, 1, 9.9492191e-44f), Vec3(-1, 0, 0)},
+                   {glm::uvec3(0, 1, 2)}, 0);
+    Ray ray{Vec3(0.5f, 0.5f, 5.04467447e-44f),
+            Vec3(-0.707106769f, -0.707106769f, -7.14662217e-44f)};
+    if (auto h = g.intersect(0, ray, kInfinity)) {
+        EXPECT_NEAR(h->t, 0.70710678f, 1e-6f);
+    }
+}
+
 TEST(Geometry, UniformSamplesLieOnTheSurfaceWithDensityOneOverArea) {
     Geometry g;
     g.addSphere(Sphere{Vec3(1, 2, 3), 0.5f}, 0);
