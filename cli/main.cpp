@@ -1,9 +1,10 @@
-// The caustic command line: one CLI11 app whose subcommands render, serve, run scale-out workers
-// and list settings; each command module adds its subcommand and runs it once the whole line has
-// parsed.
+// The caustic command line: one CLI11 app whose subcommands render, serve, run scale-out workers,
+// check a service's health and list settings; each command module adds its subcommand and runs it
+// once the whole line has parsed.
 #include <iostream>
 
 #include "command_line.h"
+#include "health_command.h"
 #include "render/settings.h"
 #include "render_command.h"
 #include "serve_command.h"
@@ -20,6 +21,8 @@ int main(int argc, char** argv) {
     CLI::App* serve = caustic::addServeCommand(app, serveConfig);
     caustic::server::ServerConfig workerConfig;
     CLI::App* worker = caustic::addWorkerCommand(app, workerConfig);
+    caustic::HealthOptions healthOptions;
+    CLI::App* health = caustic::addHealthCommand(app, healthOptions);
     CLI::App* settings = app.add_subcommand(
         "settings", "Prints every render setting as JSON: type, default, range, unit, meaning.");
 
@@ -28,6 +31,7 @@ int main(int argc, char** argv) {
     if (*render) return caustic::runRender(renderOptions);
     if (*serve) return caustic::runServe(serveConfig);
     if (*worker) return caustic::runWorker(workerConfig);
+    if (*health) return caustic::runHealth(healthOptions);
     if (*settings) {
         std::cout << caustic::settingsSchemaJson().dump(2) << "\n";
         return 0;

@@ -2,6 +2,8 @@
 
 #include <signal.h>
 
+#include <cctype>
+#include <fstream>
 #include <iostream>
 #include <regex>
 #include <thread>
@@ -27,6 +29,51 @@ CLI::Option* addFolder(CLI::App& serve, const std::string& name, std::filesystem
             name, [&folder](const std::string& dir) { folder = dir; }, help)
         ->type_name("DIR")
         ->default_str(folder.string());
+}
+
+// The token's first line, without the line break: a secret file (/run/secrets/...) keeps the
+// token out of the process's environment and command line.
+std::string readTokenFile(const std::string& file) {
+    std::ifstream in(file);
+    std::string token;
+    if (!in || !std::getline(in, token))
+        throw CLI::ValidationError("--token-file", "cannot read a token from " + file);
+    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back())))
+        token.pop_back();
+    if (token.empty()) throw CLI::ValidationError("--token-file", file + " holds no token");
+    return token;
+}
+
+// --token, --token-file, --tls-cert and --tls-key.
+void addSecurityOptions(CLI::App& serve, ServerConfig& c) {
+    CLI::Option* token =
+        serve
+            .add_option("--token", c.token,
+                        "Bearer token every POST and DELETE must carry (default: none)")
+            ->envname("CAUSTIC_TOKEN");
+    serve
+        .add_option_function<std::string>(
+            "--token-file", [&c](const std::string& file) { c.token = readTokenFile(file); },
+            "A file whose first line is the token (a container's secret)")
+        ->type_name("FILE")
+        ->envname("CAUSTIC_TOKEN_FILE")
+        ->excludes(token);
+    CLI::Option* cert =
+        serve
+            .add_option_function<std::string>(
+                "--tls-cert", [&c](const std::string& file) { c.tlsCert = file; },
+                "PEM certificate (chain): serve HTTPS only, so that the token cannot be read "
+                "on the way")
+            ->type_name("FILE")
+            ->envname("CAUSTIC_TLS_CERT");
+    CLI::Option* key = serve
+                           .add_option_function<std::string>(
+                               "--tls-key", [&c](const std::string& file) { c.tlsKey = file; },
+                               "PEM private key of --tls-cert")
+                           ->type_name("FILE")
+                           ->envname("CAUSTIC_TLS_KEY");
+    cert->needs(key);
+    key->needs(cert);
 }
 
 void addLimits(CLI::App& limits, server::ServiceLimits& l) {
@@ -107,15 +154,13 @@ CLI::App* addServeCommand(CLI::App& app, ServerConfig& c) {
         ->capture_default_str();
     cli::addNumber(*serve, "--port", c.port, 0, 65535, "Port; 0 picks a free one");
     addFolder(*serve, "--data", c.dataDir, "Job store and images")->envname("CAUSTIC_DATA");
-    serve
-        ->add_option("--token", c.token,
-                     "Bearer token every POST and DELETE must carry (default: none)")
-        ->envname("CAUSTIC_TOKEN");
+    addSecurityOptions(*serve, c);
     c.assetsDir = CAUSTIC_DEFAULT_ASSETS_DIR;
     c.scenesDir = CAUSTIC_DEFAULT_SCENES_DIR;
     c.webDir = CAUSTIC_DEFAULT_WEB_DIR;
     c.docsDir = CAUSTIC_DEFAULT_DOCS_DIR;
-    addFolder(*serve, "--assets", c.assetsDir, "The folder mesh file names resolve in");
+    addFolder(*serve, "--assets", c.assetsDir, "The folder mesh file names resolve in")
+        ->envname("CAUSTIC_ASSETS");
     addFolder(*serve, "--scenes", c.scenesDir, "Example scenes, submittable by name");
     addFolder(*serve, "--web", c.webDir, "Static files of the web page");
     addFolder(*serve, "--docs", c.docsDir, "Documentation served at /docs/ (the scene format)");
@@ -157,8 +202,8 @@ int runServe(const ServerConfig& config) {
         const std::string store = config.store.empty()
                                       ? "data " + config.dataDir.string()
                                       : "store " + cli::redactedStore(config.store);
-        std::cout << "caustic: serving on http://" << host << ":" << port << "/ (" << store
-                  << "; Ctrl-C stops)" << std::endl;
+        std::cout << "caustic: serving on " << (config.tls() ? "https://" : "http://") << host
+                  << ":" << port << "/ (" << store << "; Ctrl-C stops)" << std::endl;
         std::thread watcher([&] {
             spdlog::info("stopping (signal {})", stopSignals.wait());
             service.stop();

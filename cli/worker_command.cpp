@@ -28,6 +28,7 @@ CLI::App* addWorkerCommand(CLI::App& app, server::ServerConfig& c) {
             "--assets", [&c](const std::string& dir) { c.assetsDir = dir; },
             "The folder mesh file names resolve in (uploaded meshes come from the store)")
         ->type_name("DIR")
+        ->envname("CAUSTIC_ASSETS")
         ->default_str(c.assetsDir.string());
     cli::addLogLevelOption(*worker, c);
     return worker;
@@ -38,7 +39,7 @@ int runWorker(const server::ServerConfig& config) {
     try {
         server::setUpLogging(config.logLevel, "");
 #if CAUSTIC_HAS_POSTGRES
-        server::PostgresJobStore store(config.store);
+        server::PostgresJobStore store(config.store, config.storeWaitSeconds);
         server::RenderCounters counters;
         server::TaskWorkers workers(config, store, counters);
         // Printed on stdout, not logged: scripts and tests wait for this line.

@@ -1,30 +1,51 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Caustic needs to build, test and benchmark.
-# Idempotent: packages already present are skipped by apt. Runs as root (CI) or through sudo.
+# Idempotent: packages already present are skipped by apt. Runs as root (CI, a container build) or
+# through sudo.
+# usage: install-deps.sh [--build-only]
+#   --build-only  only what building the `caustic` binary needs: no tests, benchmarks, browser,
+#                 sanitizers, containers or PostgreSQL server (docker/Dockerfile's builder stage)
 set -euo pipefail
+
+build_only=false
+case "${1:-}" in
+    "") ;;
+    --build-only) build_only=true ;;
+    *) echo "usage: $0 [--build-only]" >&2; exit 2 ;;
+esac
 
 packages=(
     # Toolchain
-    build-essential cmake ninja-build pkg-config git
+    build-essential cmake ninja-build pkg-config
     # Command lines (caustic, the benchmarks)
     libcli11-dev
     # Renderer
     libglm-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libopenimageio-dev
-    openimageio-tools libembree-dev
-    # Render service (libssl-dev: SHA-256 asset ids; libspdlog-dev: the access log and messages)
-    libcpp-httplib-dev libsqlite3-dev libssl-dev libspdlog-dev
-    # The scale-out store: libpqxx (PostgreSQL's C++ client); the server itself for the tests'
-    # throwaway clusters (tests/support/postgres.sh)
-    libpqxx-dev postgresql
-    # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a venv;
-    # wrk and curl: bench/status_latency.sh)
-    libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv wrk curl
-    # Browser tests of the web page (tests/web/run.sh: playwright-core from npm drives Chromium)
-    chromium nodejs npm
-    # Sanitizers and fuzzing (cmake/sanitize.cmake): GCC's ASan and UBSan come with build-essential;
-    # the fuzz targets need clang with libFuzzer, LLVM's OpenMP, and llvm-symbolizer for the stacks
-    clang libclang-rt-14-dev libomp-14-dev llvm
+    libembree-dev
+    # Render service (libssl-dev: SHA-256 asset ids and TLS; libspdlog-dev: the access log and
+    # messages; libpqxx-dev: PostgreSQL's C++ client, for the scale-out store)
+    libcpp-httplib-dev libsqlite3-dev libssl-dev libspdlog-dev libpqxx-dev
 )
+if ! $build_only; then
+    packages+=(
+        git openimageio-tools
+        # The PostgreSQL server for the tests' throwaway clusters (tests/support/postgres.sh)
+        postgresql
+        # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a
+        # venv; wrk and curl: bench/status_latency.sh; openssl: the TLS tests' certificates)
+        libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv wrk curl
+        openssl
+        # Browser tests of the web page (tests/web/run.sh: playwright-core from npm drives Chromium)
+        chromium nodejs npm
+        # Sanitizers and fuzzing (cmake/sanitize.cmake): GCC's ASan and UBSan come with
+        # build-essential; the fuzz targets need clang with libFuzzer, LLVM's OpenMP, and
+        # llvm-symbolizer for the stacks
+        clang libclang-rt-14-dev libomp-14-dev llvm
+        # The container tests (tests/containers/, ../shared/containers.md): podman with runc, its
+        # compose, DNS between a compose project's containers, and debootstrap for the base image
+        podman runc podman-compose debootstrap golang-github-containernetworking-plugin-dnsname
+    )
+fi
 
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

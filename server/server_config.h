@@ -47,6 +47,9 @@ struct ServerConfig {
     std::filesystem::path webDir;     ///< Static files of the web page.
     std::filesystem::path docsDir;    ///< The documentation (docs/), served at /docs/.
     std::string token;  ///< Bearer token for mutating requests; required off loopback.
+    /// A PEM certificate (chain) and its private key: with both, the service speaks HTTPS only.
+    std::filesystem::path tlsCert, tlsKey;
+    bool tls() const { return !tlsCert.empty(); }
     /// Origins ("http://host:port") whose pages may change jobs and read answers (CORS).
     std::vector<std::string> allowedOrigins;
     std::string logLevel = "info";  ///< Of the messages and the access log (server/logging.h).
@@ -60,10 +63,11 @@ struct ServerConfig {
     /// (postgresql://...) shared by API and worker processes anywhere (store/task.h).
     std::string store;
     // Scale-out (PostgreSQL only).
-    int taskPasses = 8;          ///< Passes per task of a job that sets no task_passes.
-    int blockAfterFailures = 2;  ///< A worker's failed tasks of a job before it skips the job.
-    int failAfterWorkers = 3;    ///< Workers that failed a job's tasks before the job fails.
-    bool failEveryTask = false;  ///< Test only: this process's workers fail every task.
+    double storeWaitSeconds = 30;  ///< How long a start waits for the PostgreSQL store.
+    int taskPasses = 8;            ///< Passes per task of a job that sets no task_passes.
+    int blockAfterFailures = 2;    ///< A worker's failed tasks of a job before it skips the job.
+    int failAfterWorkers = 3;      ///< Workers that failed a job's tasks before the job fails.
+    bool failEveryTask = false;    ///< Test only: this process's workers fail every task.
     ServiceLimits limits;
     StoragePolicy storage;
 };

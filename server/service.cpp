@@ -49,6 +49,20 @@ extern "C" void recordFault(int sig) {
     ::raise(sig);
 }
 
+// cpp-httplib's TLS server (OpenSSL; Debian builds cpp-httplib with it) when a certificate is
+// given, plain HTTP otherwise.
+std::unique_ptr<httplib::Server> makeHttpServer(const ServerConfig& config) {
+    if (!config.tls()) return std::make_unique<httplib::Server>();
+    auto server =
+        std::make_unique<httplib::SSLServer>(config.tlsCert.c_str(), config.tlsKey.c_str());
+    if (!server->is_valid())
+        throw std::runtime_error("cannot use the TLS certificate " + config.tlsCert.string() +
+                                 " with the key " + config.tlsKey.string() +
+                                 ": each must be a readable PEM file, and the key the "
+                                 "certificate's");
+    return server;
+}
+
 }  // namespace
 
 /// A store shared with worker processes (store/task.h): the task workers of this process and the
@@ -80,7 +94,7 @@ RenderService::RenderService(ServerConfig config) : config_(std::move(config)) {
     retention_ = std::make_unique<RetentionSweeper>(config_, *store_, *files_, events_, storage_);
     jobs_ = std::make_unique<JobService>(config_, *store_, *files_, events_, [this] { wake(); });
     assets_ = std::make_unique<AssetService>(config_, *store_);
-    http_ = std::make_unique<httplib::Server>();
+    http_ = makeHttpServer(config_);
     // No Nagle delay: a response goes out in more than one write (headers, body), and on a
     // kept-alive connection the second waited for the client's delayed ACK, 40 ms a request.
     // Set before bind(): accepted sockets inherit it from the listening one.
@@ -150,7 +164,7 @@ void RenderService::openSharedStore() {
 #if CAUSTIC_HAS_POSTGRES
     // Nothing here is shared through the data folder: leases expire by time (other processes'
     // are live), files live in the store, and a crash is a lease that expires.
-    auto store = std::make_unique<PostgresJobStore>(config_.store);
+    auto store = std::make_unique<PostgresJobStore>(config_.store, config_.storeWaitSeconds);
     files_ = std::make_unique<PostgresJobFiles>(*store);
     farm_ = std::make_unique<Farm>();
     farm_->store = store.get();

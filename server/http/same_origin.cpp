@@ -80,7 +80,8 @@ std::optional<Refusal> checkOrigin(const ServerConfig& config, const httplib::Re
     if (!req.has_header("Origin")) return std::nullopt;
     const std::string origin = req.get_header_value("Origin");
     // The browser's page of this service is served from it: its origin is the Host it asked.
-    if (asciiLower(origin) == asciiLower("http://" + req.get_header_value("Host")) ||
+    const std::string scheme = config.tls() ? "https://" : "http://";
+    if (asciiLower(origin) == asciiLower(scheme + req.get_header_value("Host")) ||
         isListed(config, origin))
         return std::nullopt;
     return Refusal{403, req.method + " from the origin \"" + origin +

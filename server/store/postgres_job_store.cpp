@@ -1,8 +1,14 @@
 #include "store/postgres_job_store.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
 #include <stdexcept>
+#include <thread>
+
+#include <spdlog/spdlog.h>
 
 #include "store/page.h"
 #include "store/postgres_schema.h"
@@ -98,14 +104,35 @@ void holdAssets(pqxx::work& tx, const Job& job) {
 
 }  // namespace
 
-PostgresJobStore::PostgresJobStore(const std::string& conninfo)
+PostgresJobStore::PostgresJobStore(const std::string& conninfo, double waitSeconds)
     : connection_(std::make_unique<postgres::Connection>()) {
     connection_->conninfo = conninfo;
-    try {
-        postgres::migrate(connection_->get());
-    } catch (const pqxx::broken_connection& e) {
-        throw std::runtime_error(std::string("cannot connect to the PostgreSQL store: ") +
-                                 e.what());
+    // Processes started together (a compose project, a cluster's services) may come up before
+    // the database accepts connections: try again once a second until the wait is over.
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point deadline =
+        Clock::now() +
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(waitSeconds));
+    for (int attempt = 1;; ++attempt) {
+        try {
+            postgres::migrate(connection_->get());
+            if (attempt > 1) spdlog::info("the PostgreSQL store answered (attempt {})", attempt);
+            return;
+        } catch (const pqxx::broken_connection& e) {
+            connection_->link.reset();
+            if (Clock::now() >= deadline) {
+                std::ostringstream what;
+                what << "cannot connect to the PostgreSQL store";
+                if (waitSeconds > 0) what << " in " << waitSeconds << " s (--store-wait)";
+                what << ": " << e.what();
+                throw std::runtime_error(what.str());
+            }
+            if (attempt == 1)
+                spdlog::info("waiting up to {} s for the PostgreSQL store: {}", waitSeconds,
+                             e.what());
+            std::this_thread::sleep_until(
+                std::min<Clock::time_point>(deadline, Clock::now() + std::chrono::seconds(1)));
+        }
     }
 }
 

@@ -27,7 +27,9 @@ public:
     /// Connects (`conninfo`: a libpq connection string or postgresql:// URI) and applies the
     /// schema migrations this program knows that the database lacks. Throws std::runtime_error
     /// when it cannot connect, or when the database's schema is newer than this program's.
-    explicit PostgresJobStore(const std::string& conninfo);
+    /// Connects and migrates the schema; waits up to `waitSeconds` for a database that does not
+    /// answer yet (then throws std::runtime_error).
+    explicit PostgresJobStore(const std::string& conninfo, double waitSeconds = 0);
     ~PostgresJobStore() override;
     PostgresJobStore(const PostgresJobStore&) = delete;
     PostgresJobStore& operator=(const PostgresJobStore&) = delete;

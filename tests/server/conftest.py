@@ -108,7 +108,8 @@ class Process:
 class Server(Process):
     """One `caustic serve` process."""
 
-    def __init__(self, binary, workdir, args=(), env=None):
+    def __init__(self, binary, workdir, args=(), env=None, verify=True):
+        """`verify`: the CA file of a server started with --tls-cert (requests' `verify`)."""
         self.data = os.path.join(workdir, "data")
         self.log_path = os.path.join(workdir, "server.log")
         self.out_path = os.path.join(workdir, "server.out")
@@ -117,6 +118,7 @@ class Server(Process):
         self.env = env
         self.proc = None
         self.base = None
+        self.verify = verify
         self.session = requests.Session()
 
     def start(self, deadline=30):
@@ -128,7 +130,7 @@ class Server(Process):
             self.proc = subprocess.Popen(self.args, stdout=out, stderr=log, env=env,
                                          start_new_session=True)
         end = time.monotonic() + deadline
-        pattern = re.compile(r"serving on (http://127\.0\.0\.1:(\d+)/)")
+        pattern = re.compile(r"serving on (https?://127\.0\.0\.1:(\d+)/)")
         while True:
             with open(self.out_path, encoding="utf-8", errors="replace") as f:
                 m = pattern.search(f.read())
@@ -144,7 +146,8 @@ class Server(Process):
             time.sleep(0.05)
         while True:
             try:
-                if requests.get(self.base + "/healthz", timeout=2).status_code == 200:
+                r = requests.get(self.base + "/healthz", timeout=2, verify=self.verify)
+                if r.status_code == 200:
                     return self
             except requests.RequestException:
                 pass
@@ -162,6 +165,8 @@ class Server(Process):
 
     def request(self, method, path, **kw):
         kw.setdefault("timeout", TIMEOUT)
+        # Per request: a session's `verify` gives way to $REQUESTS_CA_BUNDLE.
+        kw.setdefault("verify", self.verify)
         return self.session.request(method, self.url(path), **kw)
 
     def get(self, path, **kw):
@@ -217,9 +222,9 @@ def start_server(caustic_bin):
     started is stopped (and its temporary folder removed) at the end of the session."""
     started = []
 
-    def start(*args, env=None):
+    def start(*args, env=None, verify=True):
         workdir = tempfile.mkdtemp(prefix="caustic-api-")
-        server = Server(caustic_bin, workdir, args, env)
+        server = Server(caustic_bin, workdir, args, env, verify)
         started.append((server, workdir))
         return server.start()
 

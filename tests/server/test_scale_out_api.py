@@ -68,9 +68,10 @@ def test_command_line_mistakes_are_named(caustic_bin, tmp_path):
     assert r.returncode == 2 and "postgresql://" in r.stderr, r.stderr
     # A store that cannot be reached: exit 1, saying so, without the password.
     for command in (["worker"], ["serve", "--workers", "0", "--port", "0"]):
-        r = subprocess.run([caustic_bin, *command, "--store",
+        r = subprocess.run([caustic_bin, *command, "--store-wait", "1", "--store",
                             "postgresql://u:secret-pw@127.0.0.1:1/x"], capture_output=True,
                            text=True, timeout=60)
         assert r.returncode == 1, (command, r)
-        assert "cannot connect to the PostgreSQL store" in r.stderr, r.stderr
+        assert "cannot connect to the PostgreSQL store in 1 s (--store-wait)" in r.stderr, r.stderr
+        assert "waiting up to 1 s for the PostgreSQL store" in r.stderr, r.stderr
         assert "secret-pw" not in r.stdout + r.stderr
