@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include "bench_common.h"
+#include "reference.h"
 
 #include <algorithm>
 #include <cmath>
@@ -126,50 +127,6 @@ std::string describe(const caustic::RenderSettings& s) {
     return text;
 }
 
-// FNV-1a, 64-bit, continued from `h`.
-uint64_t fnv1a(const std::string& bytes, uint64_t h = 1469598103934665603ull) {
-    for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
-    return h;
-}
-
-std::string fileBytes(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-// The reference image: its mean and its per-pixel standard error (interleaved RGB).
-struct Reference {
-    std::vector<float> mean, se;
-    int passes = 0;
-    double seconds = 0;
-};
-
-bool loadReference(const std::filesystem::path& file, size_t values, Reference& ref) {
-    std::ifstream in(file, std::ios::binary);
-    uint64_t n = 0;
-    if (!in.read(reinterpret_cast<char*>(&n), sizeof(n)) || n != values) return false;
-    ref.mean.resize(values);
-    ref.se.resize(values);
-    in.read(reinterpret_cast<char*>(&ref.passes), sizeof(ref.passes));
-    in.read(reinterpret_cast<char*>(&ref.seconds), sizeof(ref.seconds));
-    in.read(reinterpret_cast<char*>(ref.mean.data()), std::streamsize(values * sizeof(float)));
-    in.read(reinterpret_cast<char*>(ref.se.data()), std::streamsize(values * sizeof(float)));
-    return bool(in);
-}
-
-void saveReference(const std::filesystem::path& file, const Reference& ref) {
-    std::filesystem::create_directories(file.parent_path());
-    std::ofstream out(file.string() + ".tmp", std::ios::binary);
-    uint64_t n = ref.mean.size();
-    out.write(reinterpret_cast<const char*>(&n), sizeof(n));
-    out.write(reinterpret_cast<const char*>(&ref.passes), sizeof(ref.passes));
-    out.write(reinterpret_cast<const char*>(&ref.seconds), sizeof(ref.seconds));
-    out.write(reinterpret_cast<const char*>(ref.mean.data()), std::streamsize(n * sizeof(float)));
-    out.write(reinterpret_cast<const char*>(ref.se.data()), std::streamsize(n * sizeof(float)));
-    out.close();
-    std::filesystem::rename(file.string() + ".tmp", file);
-}
-
 Vec3 vec3(const Json& j) {
     return Vec3(j[0].get<float>(), j[1].get<float>(), j[2].get<float>());
 }
@@ -231,35 +188,6 @@ Region causticRegion(const Json& doc, const caustic::Scene& scene) {
     return r;
 }
 
-// Sums over pixels and channels of one image against the reference.
-struct Sums {
-    double sqErr = 0, runVar = 0, refVar = 0, refSq = 0, img = 0, ref = 0;
-    size_t n = 0;
-    void add(double v, double runSe, double r, double refSe) {
-        sqErr += (v - r) * (v - r);
-        runVar += runSe * runSe;
-        refVar += refSe * refSe;
-        refSq += r * r;
-        img += v;
-        ref += r;
-        ++n;
-    }
-    double rmse() const { return std::sqrt(sqErr / double(n)); }
-    // The reference's noise adds to the expected squared error: without it, what the RMSE
-    // against the true image would be.
-    double rmseLessReference() const {
-        return std::sqrt(std::max(0.0, sqErr - refVar) / double(n));
-    }
-    double relativeLessReference() const {
-        return std::sqrt(std::max(0.0, sqErr - refVar) / refSq);
-    }
-    // The run's own noise (RMS standard error of its passes) and what the error leaves beyond
-    // both images' noise: E[(v - r)^2] = bias^2 + var(v) + var(r).
-    double noise() const { return std::sqrt(runVar / double(n)); }
-    double relativeNoise() const { return std::sqrt(runVar / refSq); }
-    double bias() const { return std::sqrt(std::max(0.0, sqErr - runVar - refVar) / double(n)); }
-};
-
 // The figures of one render; medians over repeats keep this shape.
 struct Figures {
     double passes, spp, seconds, rmseAll, rmseRegion, netRegion, relRegion, meanRatio, noiseRegion,
@@ -312,28 +240,9 @@ Reference reference(const caustic::Scene& scene, const Json& doc, const Options&
     s.integrator = "path";
     s.spp = opt.refSpp;
     s.seed = 1000003;  // the timed runs use seeds 1, 2, ...
-    const uint64_t key =
-        fnv1a(s.toJson().dump(), fnv1a(doc.dump(), fnv1a(fileBytes(CAUSTIC_RENDERER_LIBRARY))));
-    char name[128];
-    std::snprintf(name, sizeof(name), "ref-%dx%d-%dspp-seed%llu-%016llx.bin", opt.size, opt.size,
-                  opt.refSpp, (unsigned long long)s.seed, (unsigned long long)key);
-    file = std::filesystem::read_symlink("/proc/self/exe").parent_path() / "equal_time" / name;
-    Reference ref;
-    const size_t values = size_t(opt.size) * size_t(opt.size) * 3;
-    if (loadReference(file, values, ref)) return ref;
-
-    std::cerr << "rendering the reference (" << opt.refSpp << " spp) into " << file << "\n";
-    caustic::RenderCallbacks progress;
-    progress.onPass = [](const caustic::Film& f) {
-        if (f.passes() % 8 == 0) std::cerr << "  reference: " << f.passes() << " passes\n";
-    };
-    caustic::RenderResult r = caustic::render(scene, s, progress);
-    ref.mean = r.film->meanRgb();
-    ref.se = r.film->standardErrorRgb();
-    ref.passes = r.stats.passes;
-    ref.seconds = r.stats.totalSeconds;
-    saveReference(file, ref);
-    return ref;
+    return cachedReference(
+        scene, doc, s, std::filesystem::read_symlink("/proc/self/exe").parent_path() / "equal_time",
+        CAUSTIC_RENDERER_LIBRARY, &file);
 }
 
 // The reference as a PNG beside its cache file, and again with the caustic region tinted.

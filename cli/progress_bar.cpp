@@ -25,13 +25,18 @@ void ProgressBar::update(const RenderProgress& p) {
     int filled = static_cast<int>(p.fraction * kWidth);
     std::string bar(size_t(filled), '=');
     if (filled < kWidth) bar += '>' + std::string(size_t(kWidth - filled - 1), ' ');
-    double eta = p.fraction > 0 ? p.elapsedSeconds * (1.0 - p.fraction) / p.fraction : NAN;
+    // The render's forecast: the spp budget, the time limit or the target error, whichever it
+    // expects first (render/forecast.h); named when it is not the budget.
+    const char* until = p.etaSeconds < 0                         ? ""
+                        : p.etaReason == StopReason::TargetError ? " (target error)"
+                        : p.etaReason == StopReason::TimeLimit   ? " (time limit)"
+                                                                 : "";
     char err[32] = "";
     if (std::isfinite(p.relativeError))
         std::snprintf(err, sizeof err, "  error %.2f%%", 100.0 * p.relativeError);
-    std::fprintf(stderr, "\r[%s] %3d%%  pass %d/%d  %s elapsed, ETA %s%s\033[K", bar.c_str(),
+    std::fprintf(stderr, "\r[%s] %3d%%  pass %d/%d  %s elapsed, ETA %s%s%s\033[K", bar.c_str(),
                  static_cast<int>(100.0 * p.fraction), p.passesDone, p.passesTotal,
-                 clock(p.elapsedSeconds).c_str(), clock(eta).c_str(), err);
+                 clock(p.elapsedSeconds).c_str(), clock(p.etaSeconds).c_str(), until, err);
     std::fflush(stderr);
     drawn_ = true;
 }

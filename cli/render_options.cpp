@@ -100,7 +100,7 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
     render
         ->add_option("scene", options.scene,
                      "A scene JSON file, or the name of an example scene in scenes/ "
-                     "(cornell-spheres, cornell-box, bunny)")
+                     "(cornell-spheres, cornell-box, bunny, caustic-glass, meshes, indirect)")
         ->type_name("FILE|NAME")
         ->required();
     render

@@ -11,7 +11,7 @@
 
 #include "accel/accelerator.h"
 #include "core/interrupt.h"
-#include "core/rng.h"
+#include "core/sampler.h"
 #include "lights/light.h"
 #include "scene/scene.h"
 
@@ -31,7 +31,7 @@ struct TraceSettings {
 /// What one pixel sample carries through an integrator: its random numbers and its counters.
 /// One per thread, re-seeded per sample; never shared.
 struct SampleContext {
-    Rng rng{0};
+    Sampler sampler;
     uint64_t rays = 0;
     /// The render's stop request: loops whose length the settings control poll it, and the
     /// sample's result is discarded once it asks to stop.

@@ -49,8 +49,8 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
 
         if (settings_.lightSampling) L += beta * sampleDirectLight(si, wo, m, ctx, settings_.mis);
 
-        float uc = ctx.rng.uniform();
-        Vec2 u = ctx.rng.uniform2();
+        float uc = ctx.sampler.uniform();
+        Vec2 u = ctx.sampler.uniform2();
         std::optional<BsdfSample> bs = m.sample(wo, si.n, uc, u, TransportMode::Radiance);
         if (!bs || isBlack(bs->weight)) break;
         beta *= bs->weight;
@@ -65,7 +65,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         if (depth + 1 >= settings_.rrDepth) {
             float q = maxComponent(beta) * etaScale;
             if (q < 1.0f) {
-                if (ctx.rng.uniform() >= q) break;
+                if (ctx.sampler.uniform() >= q) break;
                 beta /= q;
             }
         }

@@ -125,8 +125,8 @@ std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Co
         SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
         const Material& m = *scene_.materials[si.material];
         if (!m.isSpecular()) return si;
-        float uc = ctx.rng.uniform();
-        Vec2 u = ctx.rng.uniform2();
+        float uc = ctx.sampler.uniform();
+        Vec2 u = ctx.sampler.uniform2();
         std::optional<BsdfSample> bs = m.sample(-ray.d, si.n, uc, u, TransportMode::Radiance);
         if (!bs || isBlack(bs->weight)) return std::nullopt;
         beta *= bs->weight;
@@ -139,8 +139,8 @@ Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, cons
                                SampleContext& ctx, std::vector<Neighbor>& scratch) const {
     Color sum(0.0f);
     for (int g = 0; g < settings_.finalGather; ++g) {
-        float uc = ctx.rng.uniform();
-        Vec2 u = ctx.rng.uniform2();
+        float uc = ctx.sampler.uniform();
+        Vec2 u = ctx.sampler.uniform2();
         std::optional<BsdfSample> bs = m.sample(wo, x.n, uc, u, TransportMode::Radiance);
         if (!bs || isBlack(bs->weight)) continue;
         Color beta = bs->weight;

@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "render/forecast.h"
+#include "render/sample_map.h"
 
 namespace caustic {
 namespace {
@@ -23,6 +25,7 @@ struct TileRenderer {
     const Interrupt& interrupt;
     int sppPerPass;
     uint32_t pass;
+    const std::vector<uint16_t>* sampleMap;  ///< Samples per pixel; null for sppPerPass each.
     std::vector<Color>& out;
 
     // Renders one tile; adds its rays and dropped samples to the counters.
@@ -37,10 +40,12 @@ struct TileRenderer {
                 uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
                 DVec3 sum(0.0);  // double: many large finite samples must not overflow
                 int valid = 0;
-                for (int s = 0; s < sppPerPass; ++s) {
+                const int samples = sampleMap ? (*sampleMap)[pixel] : sppPerPass;
+                for (int s = 0; s < samples; ++s) {
                     if (ctx.interrupted()) break;  // the pass is dropped
-                    ctx.rng = Rng::forSample(settings.seed, pass, pixel, uint64_t(s));
-                    Vec2 jitter = ctx.rng.uniform2();
+                    ctx.sampler = Sampler::forSample(settings.sampler, settings.seed, pass, pixel,
+                                                     uint32_t(s), uint32_t(samples));
+                    Vec2 jitter = ctx.sampler.uniform2();
                     Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
                     Color L = integrator.Li(ray, ctx);
                     // A non-finite sample is a bug or an overflow; keep it out of the image.
@@ -106,8 +111,15 @@ bool RenderSession::renderPass(int pass, const Interrupt& interrupt, uint64_t& r
     const int tilesX = (scene_.camera.width() + kTileSize - 1) / kTileSize;
     const int tilesY = (scene_.camera.height() + kTileSize - 1) / kTileSize;
     const int tileCount = tilesX * tilesY;
-    TileRenderer renderer{scene_,      *integrator_,   settings_, interrupt,
-                          sppPerPass_, uint32_t(pass), passImage_};
+    const bool mapped = settings_.adaptive && pass >= kAdaptivePilotPasses && !sampleMap_.empty();
+    TileRenderer renderer{scene_,
+                          *integrator_,
+                          settings_,
+                          interrupt,
+                          sppPerPass_,
+                          uint32_t(pass),
+                          mapped ? &sampleMap_ : nullptr,
+                          passImage_};
     std::atomic<int> tilesDone{0};
     std::atomic<bool> abandon{false};
     uint64_t passRays = 0, passDropped = 0;
@@ -147,6 +159,9 @@ RangeResult RenderSession::renderRange(int first, int last, Film& film,
     } detach{*integrator_};
     std::mutex progressMutex;
     auto lastProgress = Clock::now();
+    // The render so far, pass by pass, for the forecast of its end; from the film it starts with.
+    std::vector<ProgressPoint> history{{film.passes(), rules.elapsed(), film.relativeError()}};
+    std::optional<StopForecast> forecast;
     auto report = [&](double passFraction) {
         if (!callbacks.onProgress) return;
         RenderProgress p;
@@ -155,6 +170,20 @@ RangeResult RenderSession::renderRange(int first, int last, Film& film,
         p.fraction = std::clamp((film.passes() + passFraction) / passesTotal_, 0.0, 1.0);
         p.elapsedSeconds = rules.elapsed();
         p.relativeError = film.relativeError();
+        if (forecast) {
+            // Counted down from the last pass's end.
+            p.etaSeconds =
+                std::max(0.0, forecast->secondsLeft - (p.elapsedSeconds - history.back().seconds));
+            p.etaReason = forecast->reason;
+        } else if (passFraction > 0) {
+            // Within the first pass: the budget at the pace of this pass so far.
+            const double passes = passesTotal_ - film.passes() - passFraction;
+            p.etaSeconds = (p.elapsedSeconds - history.back().seconds) / passFraction * passes;
+            if (settings_.timeLimit > 0 && settings_.timeLimit - p.elapsedSeconds < p.etaSeconds) {
+                p.etaSeconds = std::max(0.0, settings_.timeLimit - p.elapsedSeconds);
+                p.etaReason = StopReason::TimeLimit;
+            }
+        }
         callbacks.onProgress(p);
     };
     // Throttled progress from whichever thread gets the lock.
@@ -170,6 +199,11 @@ RangeResult RenderSession::renderRange(int first, int last, Film& film,
     std::optional<StopReason> stop;
     if (reachedTargetError(film, settings_.targetError)) stop = StopReason::TargetError;
     for (int pass = first; pass < last && !stop; ++pass) {
+        if (settings_.adaptive && pass >= kAdaptivePilotPasses && sampleMap_.empty() &&
+            !prepareSampleMap(film, rules.interrupt(), result.rays)) {
+            stop = rules.interruptReason();
+            break;
+        }
         auto tPass = Clock::now();
         result.rays += integrator_->beginPass(uint32_t(pass));
         result.passSetupSeconds += secondsSince(tPass);
@@ -182,6 +216,10 @@ RangeResult RenderSession::renderRange(int first, int last, Film& film,
         }
         if (callbacks.onPassImage) callbacks.onPassImage(pass, passImage_, dropped);
         film.addPass(pass, passImage_, dropped, threads_);
+        history.push_back({film.passes(), rules.elapsed(), film.relativeError()});
+        forecast =
+            forecastStop(history, last, film.passSet().isPrefix() ? settings_.targetError : 0.0,
+                         settings_.timeLimit);
         report(0.0);
         if (callbacks.onPass) callbacks.onPass(film);
         stop = rules.afterPass(film, pass + 1 < last);
@@ -189,6 +227,24 @@ RangeResult RenderSession::renderRange(int first, int last, Film& film,
     result.stopReason = stop.value_or(StopReason::Spp);
     result.renderSeconds = secondsSince(t0);
     return result;
+}
+
+bool RenderSession::prepareSampleMap(const Film& film, const Interrupt& interrupt, uint64_t& rays) {
+    if (film.passSet().isPrefix() && film.passes() == kAdaptivePilotPasses) {
+        sampleMap_ = adaptiveSampleMap(film, sppPerPass_);
+        return true;
+    }
+    // This range starts past the pilot (another worker's, or a resumed render's): render the pilot
+    // again. Deterministic, so this map is the one every other range has.
+    Film pilot(film.width(), film.height());
+    for (int p = 0; p < kAdaptivePilotPasses; ++p) {
+        rays += integrator_->beginPass(uint32_t(p));
+        uint64_t dropped = 0;
+        if (interrupt.requested() || !renderPass(p, interrupt, rays, dropped, {})) return false;
+        pilot.addPass(p, passImage_, dropped, threads_);
+    }
+    sampleMap_ = adaptiveSampleMap(pilot, sppPerPass_);
+    return true;
 }
 
 MemoryStats RenderSession::memory(const Film& film) const {

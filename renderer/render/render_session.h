@@ -28,6 +28,10 @@ struct RenderProgress {
     double fraction = 0;  ///< Of the pass budget, in [0, 1].
     double elapsedSeconds = 0;
     double relativeError = 0;  ///< Of the passes done; NaN before two.
+    /// Seconds until the render stops (render/forecast.h), and the rule it expects to stop it;
+    /// -1 while unknown.
+    double etaSeconds = -1;
+    StopReason etaReason = StopReason::Spp;
 };
 
 struct RenderCallbacks {
@@ -88,6 +92,10 @@ private:
     bool renderPass(int pass, const Interrupt& interrupt, uint64_t& rays, uint64_t& dropped,
                     const std::function<void(double)>& tileDone);
     void checkMemory() const;
+    /// With adaptive sampling, the sample map of the passes after the pilot (render/sample_map.h):
+    /// from `film` when it holds exactly the pilot, else from the pilot rendered again; false
+    /// when `interrupt` cut that short.
+    bool prepareSampleMap(const Film& film, const Interrupt& interrupt, uint64_t& rays);
 
     const Scene& scene_;
     RenderSettings settings_;
@@ -95,6 +103,7 @@ private:
     std::unique_ptr<Accelerator> accel_;
     std::unique_ptr<Integrator> integrator_;
     std::vector<Color> passImage_;
+    std::vector<uint16_t> sampleMap_;  ///< Samples per pixel after the pilot; empty before.
     double acceleratorSeconds_ = 0, integratorSeconds_ = 0;
 };
 

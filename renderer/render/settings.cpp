@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "render/presets.h"
 #include "scene/json_reader.h"
 
 namespace caustic {
@@ -24,16 +25,44 @@ Json settingsSchemaJson() {
         if (!s.choices.empty()) j["enum"] = s.choices;
         if (!s.unit.empty()) j["unit"] = s.unit;
         j["integrators"] = s.integrators;
+        if (s.name == "preset") {
+            // What each preset sets, for the API's users and the page's preset menu.
+            Json sets = Json::object();
+            for (const Preset& p : presets())
+                sets[p.name] = {{"description", p.description}, {"settings", p.settings}};
+            j["presets"] = sets;
+        }
         out[s.name] = j;
     }
     return out;
 }
 
+namespace {
+
+void overlay(Json& onto, const Json& values) {
+    if (values.is_object())
+        for (auto it = values.begin(); it != values.end(); ++it) onto[it.key()] = it.value();
+}
+
+}  // namespace
+
 Json mergeSettings(const Json& defaults, const Json& overrides) {
-    Json merged = defaults.is_object() ? defaults : Json::object();
-    if (overrides.is_object())
-        for (auto it = overrides.begin(); it != overrides.end(); ++it)
-            merged[it.key()] = it.value();
+    const bool overridden = overrides.is_object() && overrides.contains("preset");
+    const bool defaulted = defaults.is_object() && defaults.contains("preset");
+    const Json preset = overridden  ? presetSettings(overrides["preset"])
+                        : defaulted ? presetSettings(defaults["preset"])
+                                    : Json::object();
+    Json merged = Json::object();
+    if (!overridden) overlay(merged, preset);
+    overlay(merged, defaults);
+    if (overridden) overlay(merged, preset);
+    overlay(merged, overrides);
+    // A preset's passes must not outgrow an spp given beside it (`--preset final --spp 16`).
+    const Json& perPass = merged.contains("spp_per_pass") ? merged["spp_per_pass"] : Json();
+    if (preset.contains("spp_per_pass") && perPass == preset["spp_per_pass"] &&
+        merged.contains("spp") && merged["spp"].is_number() && perPass.is_number() &&
+        merged["spp"] < perPass)
+        merged["spp_per_pass"] = merged["spp"];
     return merged;
 }
 

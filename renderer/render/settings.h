@@ -22,11 +22,14 @@ using Json = nlohmann::json;
 /// The validated settings of one render: the general ones (TraceSettings holds maxDepth, seed and
 /// threads, which integrators read too), then each integrator's own Settings.
 struct RenderSettings : TraceSettings {
+    std::string preset = "none";  ///< The preset the settings started from (render/presets.h).
     std::string integrator = "path";
-    int spp = 16;                        ///< Samples per pixel: the most the render takes.
-    int sppPerPass = 0;                  ///< Samples per pixel in each pass; 0 chooses.
-    double timeLimit = 0;                ///< Seconds; 0 for none.
-    double targetError = 0;              ///< Relative RMS error to stop at; 0 for none.
+    int spp = 16;            ///< Samples per pixel: the most the render takes.
+    int sppPerPass = 0;      ///< Samples per pixel in each pass; 0 chooses.
+    double timeLimit = 0;    ///< Seconds; 0 for none.
+    double targetError = 0;  ///< Relative RMS error to stop at; 0 for none.
+    SamplerKind sampler = SamplerKind::Independent;
+    bool adaptive = false;  ///< Samples by each pixel's error after a pilot (render/sample_map.h).
     std::string accelerator = "embree";  // the fastest of the three today
     double memoryLimit = 0;              ///< MiB; 0 for half the machine's physical memory.
     double exposure = 0;                 ///< Stops (powers of two) applied to PNG output.
@@ -80,7 +83,9 @@ const std::vector<SettingSpec>& settingSpecs();
 /// integrators}}, for the API and the web page.
 Json settingsSchemaJson();
 
-/// Overlays `overrides` on `defaults` (both objects of settings), key by key.
+/// Overlays `overrides` on `defaults` (both objects of settings), key by key, with the preset that
+/// `overrides` names (else the one `defaults` names) between them: a preset replaces the defaults'
+/// values for what it sets, and `overrides` replace the preset's (render/presets.h).
 Json mergeSettings(const Json& defaults, const Json& overrides);
 /// Validates a settings object against the table and fills RenderSettings. Every setting is
 /// accepted whichever the integrator (a scene's defaults may serve several). Unknown keys, wrong

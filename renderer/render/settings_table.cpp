@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "accel/accelerator.h"
+#include "render/presets.h"
 #include "render/settings.h"
 
 namespace caustic {
@@ -69,6 +70,12 @@ SettingField field(Members... members) {
     return f;
 }
 
+std::vector<std::string> presetNames() {
+    std::vector<std::string> names = {"none"};
+    for (const Preset& p : presets()) names.push_back(p.name);
+    return names;
+}
+
 std::vector<SettingSpec> rows() {
     using R = RenderSettings;
     using Path = PathIntegrator::Settings;
@@ -76,6 +83,12 @@ std::vector<SettingSpec> rows() {
     const std::vector<std::string> tracers = {"whitted", "path", "photon", "ppm"};
     const std::vector<std::string> photonMappers = {"photon", "ppm"};
     return {
+        {.name = "preset",
+         .field = field(&R::preset),
+         .choices = presetNames(),
+         .description = "Named settings from the speed/accuracy study (draft, preview, final); "
+                        "they replace the scene's own, and every setting given beside the preset "
+                        "replaces the preset's. none: the scene's settings and the defaults."},
         {.name = "integrator",
          .field = field(&R::integrator),
          .choices = integratorNames(),
@@ -194,6 +207,22 @@ std::vector<SettingSpec> rows() {
          .description = "Progressive photon mapping: pass i's squared radius is the previous one "
                         "times (i - 1 + alpha) / i (Knaus & Zwicker 2011); smaller alpha shrinks "
                         "it faster."},
+        {.name = "sampler",
+         .field = field(&R::sampler),
+         .choices = {"independent", "sobol"},  // SamplerKind's order
+         .description = "Random numbers of the pixel samples: independent (PCG32), or sobol "
+                        "(Owen-scrambled Sobol' points, padded: the samples of a pixel in one pass "
+                        "are stratified in every pair of dimensions). Each pass is an independent "
+                        "randomization either way, so error estimates stay valid; sobol gains "
+                        "with more samples per pass."},
+        {.name = "adaptive",
+         .field = field(&R::adaptive),
+         .description = "Adaptive sampling: after 8 uniform pilot passes, each pass gives each "
+                        "pixel samples in proportion to the noise the pilot measured there (at "
+                        "least a quarter and at most 8 times spp_per_pass; the same total). The "
+                        "image and its error estimate stay unbiased; it needs spp_per_pass of 4 or "
+                        "more to move samples, and a render split after the pilot renders the "
+                        "pilot again."},
         {.name = "accelerator",
          .field = field(&R::accelerator),
          .choices = acceleratorNames(),

@@ -29,6 +29,7 @@ Json number(double v) {
 Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
     const std::string self = "/api/jobs/" + job.id;
     double progress = job.progress, error = job.relativeError, eta = job.etaSeconds;
+    Json etaReason = nullptr;
     int total = job.passesTotal;
     if (live && job.state == JobState::Running) {
         // passes_done stays the store's: the passes that are durable, which never go back (a
@@ -37,7 +38,11 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
         total = live->passesTotal;
         error = live->relativeError;
         eta = live->etaSeconds;
+        if (eta >= 0) etaReason = toString(live->etaReason);
     }
+    // Photon mapping's pass variance misses its bias (docs/study/README.md measures it).
+    const std::string integrator = job.settings.value("integrator", "");
+    const bool biased = integrator == "photon" || integrator == "ppm";
     Json links{
         {"self", self}, {"events", self + "/events"}, {"preview_png", self + "/preview.png"}};
     if (job.state == JobState::Succeeded) {
@@ -58,6 +63,8 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
                 {"passes_total", total},
                 {"relative_error", number(error)},
                 {"eta_seconds", eta >= 0 ? number(eta) : Json(nullptr)},
+                {"eta_reason", etaReason},
+                {"error_excludes_bias", biased},
                 {"settings", job.settings},
                 {"stats", job.stats},
                 {"convergence", job.convergence},

@@ -10,6 +10,8 @@
 #include <optional>
 #include <string>
 
+#include "render/stopping.h"
+
 namespace caustic::server {
 
 struct LiveProgress {
@@ -17,6 +19,7 @@ struct LiveProgress {
     int passesTotal = 0;
     double relativeError = 0;
     double etaSeconds = -1;
+    StopReason etaReason = StopReason::Spp;  ///< What the forecast expects to stop the render.
 };
 
 class JobEvents {

@@ -42,16 +42,10 @@ void PassRecorder::catchUp(const Film& checkpoint) {
 }
 
 void PassRecorder::onProgress(const RenderProgress& p) {
-    LiveProgress live{p.fraction, p.passesTotal, p.relativeError, -1};
-    // The pass budget at the rate so far, or the time limit if that comes first (a target error
-    // may stop it sooner still; that cannot be foreseen).
-    if (p.fraction > 0 && p.elapsedSeconds > 0)
-        live.etaSeconds = p.elapsedSeconds * (1 - p.fraction) / p.fraction;
-    if (settings_.timeLimit > 0) {
-        double left = std::max(0.0, settings_.timeLimit - p.elapsedSeconds);
-        live.etaSeconds = live.etaSeconds < 0 ? left : std::min(live.etaSeconds, left);
-    }
-    events_.setLive(job_.id, live);
+    // The render's forecast (render/forecast.h): the pass budget, the time limit or the target
+    // error, whichever it expects first.
+    events_.setLive(job_.id, LiveProgress{p.fraction, p.passesTotal, p.relativeError, p.etaSeconds,
+                                          p.etaReason});
 }
 
 void PassRecorder::onPass(const Film& film) {

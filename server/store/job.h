@@ -2,6 +2,7 @@
 // life (state, lease), and what it has produced so far (progress, convergence log, stats).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -9,6 +10,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "render/forecast.h"
 
 namespace caustic::server {
 
@@ -21,6 +24,18 @@ std::string toString(JobState s);
 std::optional<JobState> parseJobState(std::string_view s);
 inline bool isTerminal(JobState s) {
     return s == JobState::Succeeded || s == JobState::Failed || s == JobState::Cancelled;
+}
+
+/// A job's convergence log as the render forecast reads it (render/forecast.h).
+inline std::vector<ProgressPoint> progressPoints(const Json& convergence) {
+    std::vector<ProgressPoint> points;
+    for (const Json& p : convergence)
+        if (p.is_object() && p.contains("pass") && p.contains("seconds"))
+            points.push_back({p["pass"].get<int>(), p["seconds"].get<double>(),
+                              p.value("relative_error", Json()).is_number()
+                                  ? p["relative_error"].get<double>()
+                                  : std::nan("")});
+    return points;
 }
 
 struct Job {

@@ -110,10 +110,17 @@ bool failJobRow(pqxx::work& tx, const std::string& id, double now, const std::st
                .affected_rows() > 0;
 }
 
-// The rest of a job's passes at the pace of those merged so far; -1 before the first.
-double etaSeconds(const Job& job, int passes, double now) {
-    if (passes <= 0 || job.passesTotal <= passes) return passes > 0 ? 0.0 : -1.0;
-    return (now - job.startedAt) * double(job.passesTotal - passes) / passes;
+// The render's forecast (render/forecast.h) from the job's convergence log and the pass just
+// merged: the rest of its passes at the pace so far, the time limit, or the target error; -1
+// before the first pass. A target error counts only once the merged passes are a prefix.
+double etaSeconds(const Job& job, const RenderSettings& settings, const Film& film,
+                  const Json& point) {
+    std::vector<ProgressPoint> history = progressPoints(job.convergence);
+    history.push_back(progressPoints(Json::array({point})).front());
+    std::optional<StopForecast> f =
+        forecastStop(history, job.passesTotal,
+                     film.passSet().isPrefix() ? settings.targetError : 0.0, settings.timeLimit);
+    return f ? f->secondsLeft : -1.0;
 }
 
 // Ends a cancelled split job once no task renders it any more.
@@ -259,7 +266,7 @@ TaskCommit PostgresJobStore::completeTask(const Task& task, const TaskResult& re
             "= 0, convergence = convergence || jsonb_build_array($5::jsonb), eta_seconds = $6 "
             "WHERE id = $1",
             job->id, progress, film->passes(), std::isfinite(error) ? error : NAN, point.dump(),
-            etaSeconds(*job, film->passes(), now));
+            etaSeconds(*job, settings, *film, point));
         notifyJobs(tx);
         if (left > 0) {
             writeFile(tx, job->id, kMergedFilm, film->toBytes());

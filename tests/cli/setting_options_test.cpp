@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli/cli_run.h"
+#include "render/presets.h"
 #include "render/settings.h"
 
 namespace {
@@ -98,6 +99,28 @@ TEST_F(SettingOptions, ValuesReachTheRenderInTheOrderGiven) {
     r = runCli(render + "--spp 2 --set spp=3");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_EQ(readJson(dir / "stats.json")["settings"]["spp"], 3);
+}
+
+TEST_F(SettingOptions, APresetSetsWhatTheOtherOptionsDoNot) {
+    fs::path dir = tempDir();
+    writeFile(dir / "tiny.json", kTinyScene);
+    const std::string render = "render " + (dir / "tiny.json").string() + " -o " +
+                               (dir / "x.png").string() + " --quiet --stats " +
+                               (dir / "stats.json").string() + " ";
+    CliRun r = runCli(render + "--preset draft --seed 3");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    Json settings = readJson(dir / "stats.json")["settings"];
+    EXPECT_EQ(settings["preset"], "draft");
+    const Json draft = caustic::presetSettings("draft");
+    for (const auto& [key, value] : draft.items()) EXPECT_EQ(settings[key], value) << key;
+    EXPECT_EQ(settings["seed"], 3);
+    // An option beside the preset wins, whatever the order.
+    r = runCli(render + "--spp 2 --preset draft");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(readJson(dir / "stats.json")["settings"]["spp"], 2);
+    r = runCli(render + "--preset best");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("best"), std::string::npos) << r.output;
 }
 
 TEST_F(SettingOptions, SettingsCommandPrintsTheTable) {

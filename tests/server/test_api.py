@@ -208,6 +208,30 @@ def test_request_settings_override_the_scenes(server):
     assert run_to_end(server, job["id"])["passes_done"] == 3
 
 
+def test_a_preset_sits_between_the_scene_and_the_request(server):
+    spec = server.get("/api/settings").json()["preset"]
+    assert spec["enum"] == ["none", "draft", "preview", "final"]  # fastest first
+    presets = spec["presets"]
+    assert set(presets) == {"draft", "preview", "final"}
+    for p in presets.values():
+        assert p["description"] and p["settings"]
+    scene = tiny_scene()
+    scene["settings"] = {"spp": 2, "max_depth": 3, "target_error": 0.5}
+    # The preset replaces the scene's values for what it sets...
+    job = submit_ok(server, {"scene": scene, "settings": {"preset": "draft"}})
+    assert job["settings"]["preset"] == "draft"
+    for key, value in presets["draft"]["settings"].items():
+        assert job["settings"][key] == value, key
+    assert job["settings"]["max_depth"] == 3  # not the draft's business
+    # ... and what the request names replaces the preset's.
+    job = submit_ok(server, {"scene": scene, "settings": {"preset": "draft", "spp": 3}})
+    assert job["settings"]["spp"] == 3
+    assert run_to_end(server, job["id"])["state"] == "succeeded"
+    # An unknown preset is a 422 at its path, naming the valid ones.
+    r = server.submit({"scene": scene, "settings": {"preset": "ultra"}})
+    assert_problem(r, 422, "/settings/preset", "valid: none, draft, preview, final")
+
+
 def test_invalid_submissions_name_the_json_path(server):
     # The error cases: malformed JSON (400), invalid scene or settings or over a limit
     # (422 with the JSON path), a body over the limit (413, test_bad_input.py), unknown job (404),

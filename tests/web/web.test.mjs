@@ -42,8 +42,8 @@ test('page weight on first load (an empty server, no cache)', async () => {
 test('the settings form follows /api/settings: only the integrator\'s options, API ranges and defaults', async () => {
   const schema = (await api('/api/settings')).body;
   const {page, close} = await openPage();
-  assert.equal(await page.locator('#settings fieldset').first().locator('select').getAttribute('id'), 's-integrator',
-    'the integrator comes first');
+  const firstSelects = await page.$$eval('#settings fieldset', sets => sets.slice(0, 2).map(s => s.querySelector('select').id));
+  assert.deepEqual(firstSelects, ['s-preset', 's-integrator'], 'the preset comes first, then the integrator');
   for (const integrator of schema.integrator.enum) {
     await page.selectOption('#s-integrator', integrator);
     const fields = await page.$$eval('[data-setting]', els => els.map(el => {
@@ -83,6 +83,40 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
   await page.selectOption('#s-integrator', 'photon');
   await page.$eval('[data-group=options]', el => el.scrollIntoView());
   await shot(page, 'settings-photon');
+  await close();
+});
+
+test('presets: choosing one fills in what it sets; fields stay editable and win; none restores the scene\'s', async () => {
+  const schema = (await api('/api/settings')).body;
+  const presets = schema.preset.presets;
+  assert.deepEqual(Object.keys(presets).sort(), ['draft', 'final', 'preview']);
+  const {page, close} = await openPage();
+  assert.deepEqual(await page.$$eval('#s-preset option', os => os.map(o => o.value)),
+    ['none', 'draft', 'preview', 'final'], 'the menu lists them fastest first');
+  await selectExample(page, 'cornell-box');
+  assert.equal(await page.inputValue('#s-preset'), 'none');
+  assert.equal(await page.inputValue('#s-spp'), '64', 'the scene\'s spp');
+  for (const name of Object.keys(presets)) {
+    await page.selectOption('#s-preset', name);
+    for (const [key, value] of Object.entries(presets[name].settings))
+      assert.equal(await page.inputValue(`#s-${key}`), String(value), `${name} sets ${key}`);
+  }
+  await page.selectOption('#s-preset', 'none');
+  assert.equal(await page.inputValue('#s-spp'), '64', 'none restores the scene\'s spp');
+  assert.equal(await page.inputValue('#s-sampler'), schema.sampler.default);
+
+  // The draft, on a small image, with one field changed by hand: the job has the preset's settings
+  // but that one.
+  await smallScene(page, 16);
+  await page.selectOption('#s-preset', 'draft');
+  await page.fill('#s-spp', '8');
+  const {status, body: job} = await submit(page);
+  assert.equal(status, 202);
+  assert.equal(job.settings.preset, 'draft');
+  assert.equal(job.settings.spp, 8);
+  for (const [key, value] of Object.entries(presets.draft.settings))
+    if (key !== 'spp') assert.equal(job.settings[key], value, `the job's ${key}`);
+  await page.waitForSelector(`${itemOf(job.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
   await close();
 });
 

@@ -67,3 +67,11 @@ export function jobLabel(job) {
 export const shortId = id => id.slice(0, 6);
 
 export const isTerminal = state => state === 'succeeded' || state === 'failed' || state === 'cancelled';
+
+/** What a running job's ETA counts down to, when the forecast expects a rule other than the spp
+ *  budget to stop it (the API's eta_reason). */
+export function etaUntil(job) {
+  if (job.eta_reason === 'target_error') return ' to target error';
+  if (job.eta_reason === 'time_limit') return ' (time limit)';
+  return '';
+}

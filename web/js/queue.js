@@ -1,7 +1,7 @@
 // The queue panel: one item per job with its state, a live progress bar, passes, ETA and the
 // estimated error, and buttons to show it, cancel it and delete it.
 import {api} from './api.js';
-import {h, isTerminal, jobLabel, percent, seconds, shortId} from './format.js';
+import {etaUntil, h, isTerminal, jobLabel, percent, seconds, shortId} from './format.js';
 
 export class QueueView {
   constructor(list, empty, jobs, {onOpen, onError}) {
@@ -63,8 +63,9 @@ export class QueueView {
     item.progress.value = fraction;
     item.progress.setAttribute('aria-label', `${label}: ${Math.round(100 * fraction)}% done`);
     const parts = [`pass ${job.passes_done ?? 0}/${job.passes_total || '?'}`];
-    if (job.state === 'running') parts.push(`ETA ${seconds(job.eta_seconds)}`);
-    if (job.relative_error != null) parts.push(`error ${percent(job.relative_error)}`);
+    if (job.state === 'running') parts.push(`ETA ${seconds(job.eta_seconds)}${etaUntil(job)}`);
+    if (job.relative_error != null)
+      parts.push(`error ${percent(job.relative_error)}${job.error_excludes_bias ? ' (noise only)' : ''}`);
     if (job.state === 'succeeded' && job.stats) parts.push(seconds(job.stats.total_seconds));
     item.meta.textContent = parts.join(' · ');
     item.error.hidden = !job.error;

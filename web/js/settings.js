@@ -1,5 +1,6 @@
-// The render settings form, generated from GET /api/settings: the integrator first, then only the
-// options it reads (a setting's `integrators`; empty = every integrator), the stopping rule, the
+// The render settings form, generated from GET /api/settings: the preset first (choosing one fills
+// in what it sets, from the API's `presets`; the fields stay editable), the integrator, then only
+// the options it reads (a setting's `integrators`; empty = every integrator), the stopping rule, the
 // accelerator, and the rest. Number inputs carry the API's minimum, maximum and step, enums are
 // selects, booleans checkboxes, and every field starts at the API's default.
 import {h} from './format.js';
@@ -27,10 +28,13 @@ export class SettingsForm {
       .sort(byOrder(ORDER));
     const stop = STOP.filter(n => n in schema);
     const accel = names.filter(n => n === 'accelerator');
-    const rest = names.filter(n => n !== 'integrator' && !options.includes(n) && !stop.includes(n) &&
-      !accel.includes(n)).sort();
+    const rest = names.filter(n => n !== 'integrator' && n !== 'preset' && !options.includes(n) &&
+      !stop.includes(n) && !accel.includes(n)).sort();
 
+    this.sceneSettings = {};
     container.replaceChildren(
+      ...('preset' in schema ? [this.group('Preset', ['preset'], 'preset',
+        'Settings measured to trade time for accuracy well; every field below stays editable.')] : []),
       this.group('Integrator', ['integrator']),
       this.optionsGroup = this.group('Integrator options', options, 'options'),
       this.group('Stopping rule', stop, 'stop',
@@ -38,6 +42,7 @@ export class SettingsForm {
       this.group('Accelerator', accel),
       this.more(rest));
     this.fields.get('integrator').input.addEventListener('change', () => this.showIntegrator());
+    this.fields.get('preset')?.input.addEventListener('change', () => this.applyPreset());
     this.showIntegrator();
   }
 
@@ -115,9 +120,25 @@ export class SettingsForm {
 
   /** API defaults, then `overrides` (a scene's own settings) over them. */
   reset(overrides = {}) {
+    this.sceneSettings = overrides || {};
     for (const [name, f] of this.fields) this.set(name, f.spec.default);
-    for (const [name, value] of Object.entries(overrides || {})) this.set(name, value);
+    for (const [name, value] of Object.entries(this.sceneSettings)) this.set(name, value);
+    this.applyPreset();
     this.clearErrors();
+  }
+
+  /** The chosen preset's settings over the scene's (as the API merges them); `none`: the scene's. */
+  applyPreset() {
+    const preset = this.fields.get('preset');
+    if (!preset) return;
+    const name = preset.input.value;
+    for (const [n, f] of this.fields) if (n !== 'preset') this.set(n, f.spec.default);
+    const sets = this.schema.preset.presets?.[name]?.settings || {};
+    // A scene's own preset is under the scene's values; one chosen here is over them.
+    const merged = name === this.sceneSettings.preset ? {...sets, ...this.sceneSettings}
+      : {...this.sceneSettings, ...sets};
+    for (const [n, value] of Object.entries(merged)) this.set(n, value);
+    preset.input.value = name;
     this.showIntegrator();
   }
 

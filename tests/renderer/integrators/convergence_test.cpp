@@ -107,6 +107,27 @@ TEST(ConvergenceCornellSpheres, NaiveLightSamplingAndMisAgreePerRegion) {
     EXPECT_LE(c3.worstZ, threshold) << "light sampling vs MIS: " << c3.describe(regions);
 }
 
+// Adaptive sampling moves samples to the noisy pixels (the caustics, the lamp's edges) after its
+// pilot; each pass stays an unbiased estimate of every pixel, so it converges to the uniform
+// render's image. The same statistics, one pair; with the sobol sampler too, whose points adapt
+// to each pixel's count.
+TEST(ConvergenceCornellSpheres, AdaptiveAndUniformSamplingAgreePerRegion) {
+    auto scene = sceneFromJson(exampleScene("cornell-spheres", kCornellSize, kCornellSize));
+    const std::vector<Region> regions =
+        blockHierarchy(kCornellSize, kCornellSize, {4, 8, 16, kCornellSize});
+    RegionRender uniform = renderRegions(*scene, cornellSettings(true, true, 4), regions);
+    json adaptive = cornellSettings(true, true, 5);
+    adaptive["adaptive"] = true;
+    adaptive["sampler"] = "sobol";
+    RegionRender adapted = renderRegions(*scene, adaptive, regions);
+    ASSERT_EQ(adapted.stats.passes(), kCornellPasses);
+    EXPECT_EQ(adapted.render.droppedSamples, 0u);
+    const double threshold =
+        twoSidedNormalQuantile(kFamilyWiseFalseAlarm / double(regions.size() * 3));
+    Comparison c = compare(uniform.stats, adapted.stats);
+    EXPECT_LE(c.worstZ, threshold) << "uniform vs adaptive: " << c.describe(regions);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Whitted and path tracing where Whitted is exact.
 //

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/student_t.h"
 #include "film/film.h"
 #include "support/test_scenes.h"
 
@@ -198,34 +199,7 @@ inline nlohmann::json furnaceScene(Enclosure enclosure, double rho, const std::a
 // of many samples). With 64 passes its tail is much heavier than the normal one far out:
 // P(|T_63| > 5) = 4.9e-6 against P(|Z| > 5) = 5.7e-7, so the threshold comes from t.
 
-/// P(|T| > t) for Student's t with `dof` degrees of freedom: the regularized incomplete beta
-/// I_x(dof/2, 1/2) at x = dof / (dof + t^2) (Abramowitz and Stegun 26.7.1). With u = 1 - s^2 the
-/// integrand u^(a-1) (1-u)^(-1/2) becomes 2 (1 - s^2)^(a-1), smooth on [sqrt(1 - x), 1], and
-/// Simpson's rule integrates it to ~1e-12 relative.
-inline double studentTwoSidedTail(double t, int dof) {
-    const double a = 0.5 * dof;
-    const double lower = std::abs(t) / std::sqrt(dof + t * t);  // sqrt(1 - x)
-    const int n = 4096;
-    const double h = (1.0 - lower) / n;
-    double sum = 0;
-    for (int i = 0; i <= n; ++i) {
-        double s = lower + i * h;
-        double f = 2.0 * std::pow(std::max(0.0, 1.0 - s * s), a - 1.0);
-        sum += f * (i == 0 || i == n ? 1 : (i % 2 ? 4 : 2));
-    }
-    double beta = std::exp(std::lgamma(a) + std::lgamma(0.5) - std::lgamma(a + 0.5));
-    return sum * h / 3.0 / beta;
-}
-
-/// The two-sided threshold of Student's t for a false-alarm rate `alpha` per check (bisection).
-inline double studentThreshold(double alpha, int dof) {
-    double lo = 0, hi = 100;
-    for (int i = 0; i < 200; ++i) {
-        double m = 0.5 * (lo + hi);
-        (studentTwoSidedTail(m, dof) > alpha ? lo : hi) = m;
-    }
-    return hi;
-}
+using caustic::studentThreshold;  // core/student_t.h
 
 /// A film compared with a uniform expected radiance, pixel by pixel and as a whole.
 struct UniformCheck {

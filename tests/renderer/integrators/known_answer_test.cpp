@@ -51,18 +51,26 @@ TEST(Dielectric, SphereOfIorOneLeavesTheImageUnchanged) {
 TEST(Determinism, SameImageWithOneAndTwoThreads) {
     auto scene = sceneFromJson(testing::exampleScene("cornell-spheres", 64, 48));
     for (const std::string& integrator : integratorNames()) {
-        // Few photons: photon tracing runs in parallel too, and must not depend on it either.
-        json base{{"integrator", integrator}, {"spp", 8}, {"seed", 17}, {"photons", 20000}};
-        RenderResult one = render(*scene, settingsFrom(mergePatched(base, {{"threads", 1}})));
-        RenderResult two = render(*scene, settingsFrom(mergePatched(base, {{"threads", 2}})));
-        std::vector<float> a = one.film->meanRgb(), b = two.film->meanRgb();
-        ASSERT_EQ(a.size(), b.size());
-        EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0) << integrator;
-        EXPECT_EQ(one.stats.rays, two.stats.rays) << integrator;
-        // A different seed gives a different image (the seed is really used).
-        RenderResult other = render(*scene, settingsFrom(mergePatched(base, {{"seed", 18}})));
-        std::vector<float> c = other.film->meanRgb();
-        EXPECT_NE(std::memcmp(a.data(), c.data(), a.size() * sizeof(float)), 0) << integrator;
+        for (const std::string sampler : {"independent", "sobol", "adaptive"}) {
+            SCOPED_TRACE(sampler);
+            // Few photons: photon tracing runs in parallel too, and must not depend on it either.
+            // Adaptive sampling: 2 passes after its pilot of 8.
+            const bool adaptive = sampler == "adaptive";
+            json base{{"integrator", integrator}, {"spp", adaptive ? 40 : 8},
+                      {"spp_per_pass", 4},        {"seed", 17},
+                      {"photons", 20000},         {"sampler", adaptive ? "sobol" : sampler},
+                      {"adaptive", adaptive}};
+            RenderResult one = render(*scene, settingsFrom(mergePatched(base, {{"threads", 1}})));
+            RenderResult two = render(*scene, settingsFrom(mergePatched(base, {{"threads", 2}})));
+            std::vector<float> a = one.film->meanRgb(), b = two.film->meanRgb();
+            ASSERT_EQ(a.size(), b.size());
+            EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0) << integrator;
+            EXPECT_EQ(one.stats.rays, two.stats.rays) << integrator;
+            // A different seed gives a different image (the seed is really used).
+            RenderResult other = render(*scene, settingsFrom(mergePatched(base, {{"seed", 18}})));
+            std::vector<float> c = other.film->meanRgb();
+            EXPECT_NE(std::memcmp(a.data(), c.data(), a.size() * sizeof(float)), 0) << integrator;
+        }
     }
 }
 

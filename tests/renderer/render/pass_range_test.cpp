@@ -49,12 +49,23 @@ std::string exrBytes(const Film& film, const std::string& name) {
     return bytes;
 }
 
-class PassRanges : public ::testing::TestWithParam<std::string> {
+// An integrator and a sampler.
+class PassRanges : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {
 protected:
     void SetUp() override {
         scene_ = sceneFromJson(exampleScene("cornell-spheres", 24, 16));
-        json_ = {{"integrator", GetParam()}, {"spp", kPasses}, {"spp_per_pass", 1},
-                 {"photons", 3000},          {"seed", 7},      {"threads", 2}};
+        const auto& [integrator, sampler] = GetParam();
+        // Four samples per pass, so that the sobol sampler's points within a pass are a set, and
+        // adaptive sampling (sobol, samples by the pilot's 8 passes: a range after them renders
+        // the pilot again) has samples to move.
+        json_ = {{"integrator", integrator},
+                 {"spp", 4 * kPasses},
+                 {"spp_per_pass", 4},
+                 {"photons", 3000},
+                 {"seed", 7},
+                 {"threads", 2},
+                 {"sampler", sampler == "independent" ? "independent" : "sobol"},
+                 {"adaptive", sampler == "adaptive"}};
     }
     RenderSettings settings(double targetError) const {
         nlohmann::json j = json_;
@@ -144,8 +155,13 @@ TEST_P(PassRanges, TargetErrorStopsAtTheSamePassWhateverTheSplit) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Integrators, PassRanges, ::testing::ValuesIn(integratorNames()),
-                         [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+INSTANTIATE_TEST_SUITE_P(
+    IntegratorsAndSamplers, PassRanges,
+    ::testing::Combine(::testing::ValuesIn(integratorNames()),
+                       ::testing::Values("independent", "sobol", "adaptive")),
+    [](const ::testing::TestParamInfo<std::tuple<std::string, std::string>>& p) {
+        return std::get<0>(p.param) + "_" + std::get<1>(p.param);
+    });
 
 }  // namespace
 }  // namespace caustic

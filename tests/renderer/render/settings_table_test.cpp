@@ -143,7 +143,8 @@ TEST(SettingsTable, DefaultsAreTheFieldsOfADefaultRenderSettings) {
 
 // Parsing writes each setting into the field its row names, and toJson reads it from there.
 TEST(SettingsTable, EveryRowIsBoundToItsField) {
-    const Json asked{{"integrator", "ppm"},
+    const Json asked{{"preset", "preview"},
+                     {"integrator", "ppm"},
                      {"spp", 100},
                      {"spp_per_pass", 10},
                      {"time_limit", 2.5},
@@ -160,6 +161,8 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
                      {"kernel", "simpson"},
                      {"final_gather", 3},
                      {"alpha", 0.5},
+                     {"sampler", "sobol"},
+                     {"adaptive", true},
                      {"accelerator", "bruteforce"},
                      {"memory_limit", 512.5},
                      {"seed", 12345678901},
@@ -183,6 +186,9 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
     EXPECT_EQ(s.photon.kernel, PhotonKernel::Simpson);
     EXPECT_EQ(s.photon.finalGather, 3);
     EXPECT_EQ(s.photon.alpha, 0.5);
+    EXPECT_EQ(s.sampler, SamplerKind::Sobol);
+    EXPECT_TRUE(s.adaptive);
+    EXPECT_EQ(s.preset, "preview");
     EXPECT_EQ(s.accelerator, "bruteforce");
     EXPECT_EQ(s.memoryLimit, 512.5);
     EXPECT_EQ(s.seed, 12345678901u);

@@ -12,6 +12,7 @@
 #include "accel/accelerator.h"
 #include "core/error.h"
 #include "integrators/integrator.h"
+#include "render/presets.h"
 
 namespace caustic {
 namespace {
@@ -164,6 +165,49 @@ TEST(SettingsMerge, OverridesKeyByKey) {
     // A merged value is still validated.
     EXPECT_SETTINGS_ERROR(mergeSettings(defaults, Json{{"spp", 0}}), "/settings/spp",
                           "must be in [1, 1000000], got 0");
+}
+
+// A preset replaces the scene's values for what it sets; what the request names replaces the
+// preset's; a scene may name a preset too, below its own values.
+TEST(SettingsPresets, SitBetweenTheSceneAndTheRequest) {
+    const Json scene{{"spp", 64}, {"max_depth", 4}, {"target_error", 0.5}};
+    const Json preview = presetSettings("preview");
+    ASSERT_TRUE(preview.contains("spp"));
+    RenderSettings s = parseSettings(mergeSettings(scene, Json{{"preset", "preview"}}));
+    EXPECT_EQ(s.preset, "preview");
+    EXPECT_EQ(s.spp, preview["spp"].get<int>());
+    EXPECT_EQ(s.targetError, preview["target_error"].get<double>());
+    EXPECT_EQ(s.maxDepth, 4);  // the preview preset leaves it to the scene
+    s = parseSettings(mergeSettings(scene, Json{{"preset", "preview"}, {"spp", 8}}));
+    EXPECT_EQ(s.spp, 8);
+    EXPECT_EQ(s.sppPerPass, 8);  // the preset's 16 per pass, cut to the spp asked
+    s = parseSettings(mergeSettings(scene, Json{{"preset", "preview"}, {"spp", 160}}));
+    EXPECT_EQ(s.sppPerPass, preview["spp_per_pass"].get<int>());
+    // A scene's own preset is under its own values.
+    s = parseSettings(mergeSettings(Json{{"preset", "final"}, {"spp", 64}}, Json::object()));
+    EXPECT_EQ(s.spp, 64);
+    EXPECT_EQ(s.targetError, presetSettings("final")["target_error"].get<double>());
+    // none, and a request's preset over the scene's.
+    s = parseSettings(mergeSettings(Json{{"preset", "final"}}, Json{{"preset", "none"}}));
+    EXPECT_EQ(s.spp, RenderSettings{}.spp);
+    s = parseSettings(mergeSettings(Json{{"preset", "final"}}, Json{{"preset", "draft"}}));
+    EXPECT_EQ(s.spp, presetSettings("draft")["spp"].get<int>());
+    // An unknown preset is an error at its path, naming the valid ones.
+    EXPECT_SETTINGS_ERROR(mergeSettings(scene, Json{{"preset", "ultra"}}), "/settings/preset",
+                          "unknown value \"ultra\"; valid: none, draft, preview, final");
+    EXPECT_SETTINGS_ERROR(mergeSettings(scene, Json{{"preset", 3}}), "/settings/preset",
+                          "expected a string, got a number");
+}
+
+TEST(SettingsPresets, EveryPresetIsValidAndDocumented) {
+    const Json schema = settingsSchemaJson();
+    for (const Preset& p : presets()) {
+        SCOPED_TRACE(p.name);
+        EXPECT_NO_THROW(parseSettings(p.settings));
+        EXPECT_EQ(schema["preset"]["presets"][p.name]["settings"], p.settings);
+        EXPECT_FALSE(p.description.empty());
+    }
+    EXPECT_EQ(schema["preset"]["default"], "none");
 }
 
 TEST(SettingsCommandLine, ParseSettingValue) {

@@ -98,6 +98,21 @@ TEST(SceneLoaderExamples, Bunny) {
     EXPECT_LT(b.hi.y, 0.5f);
 }
 
+// The study's scenes (docs/study/): a glass sphere under a small sphere light, three meshes, and
+// a room lit by a lamp that faces the ceiling.
+TEST(SceneLoaderExamples, StudyScenes) {
+    auto glass = loadScene(testing::exampleScene("caustic-glass"), repoSceneOptions());
+    EXPECT_EQ(countKind(glass->geometry, PrimKind::Sphere), 2u);
+    EXPECT_EQ(countAreaLights(*glass), 1u);
+    auto meshes = loadScene(testing::exampleScene("meshes"), repoSceneOptions());
+    // The bunny's 69451 triangles, the teapot's and spot's.
+    EXPECT_GT(countKind(meshes->geometry, PrimKind::Triangle), 69451u + 5000u);
+    EXPECT_EQ(countAreaLights(*meshes), 1u);
+    auto indirect = loadScene(testing::exampleScene("indirect"), repoSceneOptions());
+    EXPECT_EQ(countAreaLights(*indirect), 1u);
+    EXPECT_EQ(countKind(indirect->geometry, PrimKind::Quad), 6u);
+}
+
 TEST(SceneLoaderDefaults, CameraDefaults) {
     auto scene = loadScene(baseScene(), repoSceneOptions());
     EXPECT_EQ(scene->camera.width(), 512);

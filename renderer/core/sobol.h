@@ -1,0 +1,84 @@
+// Owen-scrambled, shuffled Sobol' points in two dimensions: the building block of the padded
+// Sobol' sampler (core/sampler.h). Only Sobol's first two dimensions are used; every pair of
+// sample dimensions gets its own scramble and its own shuffle of the sample order (Burley 2020,
+// "Practical Hash-based Owen Scrambling", JCGT 9(4); pbrt-v4's PaddedSobolSampler), so that each
+// pair is a (0, m, 2)-net for 2^m samples and no two pairs are correlated.
+#pragma once
+
+#include <cstdint>
+
+namespace caustic {
+
+/// Sobol's first dimension (the van der Corput sequence) or second (generator matrix: Pascal's
+/// triangle mod 2), for sample `index`, as a 32-bit fixed-point fraction.
+inline uint32_t sobolSample(uint32_t index, int dimension) {
+    uint32_t v = 0;
+    uint32_t column = 0x80000000u;  // column 0 of both generator matrices
+    for (; index != 0; index >>= 1) {
+        if (index & 1u) v ^= column;
+        // Next column: van der Corput halves it; the second dimension also keeps the previous.
+        column = dimension == 0 ? column >> 1 : column ^ (column >> 1);
+    }
+    return v;
+}
+
+inline uint32_t reverseBits(uint32_t v) {
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
+/// Nested uniform (Owen) scrambling of a 32-bit fraction: each bit is flipped by a hash of the
+/// bits above it. Burley's hash, after Laine and Karras: on the bit-reversed value, each step
+/// changes a bit only from the bits below it.
+inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
+    v = reverseBits(v);
+    v += seed;
+    v ^= v * 0x6c50b47cu;
+    v ^= v * 0xb82f1e52u;
+    v ^= v * 0xc7afe638u;
+    v ^= v * 0x8d22f6e6u;
+    return reverseBits(v);
+}
+
+/// Element i of a random permutation of [0, n) chosen by `seed` (Kensler 2013, "Correlated
+/// Multi-Jittered Sampling", listing 3): a bijection on the enclosing power of two, walked until
+/// it lands below n.
+inline uint32_t permutationElement(uint32_t i, uint32_t n, uint32_t seed) {
+    uint32_t w = n - 1;
+    w |= w >> 1;
+    w |= w >> 2;
+    w |= w >> 4;
+    w |= w >> 8;
+    w |= w >> 16;
+    do {
+        i ^= seed;
+        i *= 0xe170893du;
+        i ^= seed >> 16;
+        i ^= (i & w) >> 4;
+        i ^= seed >> 8;
+        i *= 0x0929eb3fu;
+        i ^= seed >> 23;
+        i ^= (i & w) >> 1;
+        i *= 1u | seed >> 27;
+        i *= 0x6935fa69u;
+        i ^= (i & w) >> 11;
+        i *= 0x74dcb303u;
+        i ^= (i & w) >> 2;
+        i *= 0x9e501cc3u;
+        i ^= (i & w) >> 2;
+        i *= 0xc860a3dfu;
+        i &= w;
+        i ^= i >> 5;
+    } while (i >= n);
+    return (i + seed) % n;
+}
+
+/// A 32-bit fraction as a float in [0, 1): its top 24 bits, exact and below 1.
+inline float fractionToFloat(uint32_t v) {
+    return static_cast<float>(v >> 8) * 0x1p-24f;
+}
+
+}  // namespace caustic

@@ -1,0 +1,118 @@
+// Can users trust the error a render reports? For the path tracer on every example scene, at a
+// reduced size (docs/study/README.md has the full-size figures): the relative error estimated from
+// the pass variance against the true relative error (against a long reference, less the
+// reference's own noise), at several pass counts, within 0.8 to 1.25; and the share of pixel
+// values whose 95% Student-t interval from the passes holds the reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/student_t.h"
+#include "render/renderer.h"
+#include "support/test_scenes.h"
+
+namespace caustic {
+namespace {
+
+using nlohmann::json;
+using testing::exampleScene;
+using testing::sceneFromJson;
+using testing::settingsFrom;
+
+constexpr int kSize = 24;
+
+struct Trust {
+    double reported = 0;  ///< The relative error the film reports.
+    double truth = 0;     ///< Its relative error against the reference, less the reference's noise.
+    double coverage = 0;  ///< Share of pixel values inside their 95% interval.
+};
+
+Trust trustOf(const Film& film, const std::vector<float>& ref, const std::vector<float>& refSe) {
+    const std::vector<float> mean = film.meanRgb(), se = film.standardErrorRgb();
+    const double t = studentThreshold(0.05, film.passes() - 1);
+    double sqErr = 0, refVar = 0, refSq = 0;
+    size_t covered = 0;
+    for (size_t i = 0; i < mean.size(); ++i) {
+        const double d = double(mean[i]) - ref[i];
+        sqErr += d * d;
+        refVar += double(refSe[i]) * refSe[i];
+        refSq += double(ref[i]) * ref[i];
+        covered += std::abs(d) <= t * std::hypot(double(se[i]), double(refSe[i]));
+    }
+    return {film.relativeError(), std::sqrt(std::max(0.0, sqErr - refVar) / refSq),
+            double(covered) / double(mean.size())};
+}
+
+class ErrorTrust : public ::testing::TestWithParam<std::string> {};
+
+// The per-pixel intervals are t intervals: right when a pixel's pass estimates are near normal.
+// Where rare paths carry much of a pixel's light they are not: most passes miss those paths, the
+// spread of the passes misses them too, and the interval misses the reference. That is the case
+// of every pixel lit through glass (cornell-spheres' and caustic-glass' caustics, which path
+// tracing finds only by chance: measured 73% and 80% at 32 passes, and 62% to 87% at 96 x 96 in
+// docs/study/README.md), and a little of every pixel straddling the lamp's edge (measured 91% to
+// 93% on the other scenes). The bounds hold what was measured, less a margin; the study reports
+// the full-size figures.
+double leastCoverage(const std::string& scene) {
+    return scene == "cornell-spheres" || scene == "caustic-glass" ? 0.70 : 0.88;
+}
+
+constexpr int kSeeds = 4;
+constexpr int kRungs[] = {8, 16, 32};  // passes of 4 samples
+
+// One render's error is dominated by its few noisiest pixels (at 24 x 24, those that straddle the
+// lamp's edge: a sample hits the lamp or not), so both the reported and the true error of one
+// render scatter by tens of percent from seed to seed (measured: 0.64 to 1.71 for the cornell box).
+// The check is on their expectation: the ratio of their RMS over 4 seeds. The reference has 64
+// times the samples of the checked renders at their end, so its noise is a small correction.
+TEST_P(ErrorTrust, ReportedErrorTracksTheTrueErrorAndIntervalsCoverTheReference) {
+    auto scene = sceneFromJson(exampleScene(GetParam(), kSize, kSize));
+    RenderResult ref =
+        render(*scene, settingsFrom({{"spp", 8192}, {"spp_per_pass", 128}, {"seed", 1000003}}));
+    const std::vector<float> refMean = ref.film->meanRgb(), refSe = ref.film->standardErrorRgb();
+
+    std::map<int, std::vector<Trust>> rungs;
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+        RenderCallbacks callbacks;
+        callbacks.onPass = [&](const Film& film) {
+            for (int passes : kRungs)
+                if (film.passes() == passes) rungs[passes].push_back(trustOf(film, refMean, refSe));
+        };
+        render(*scene, settingsFrom({{"spp", 128}, {"spp_per_pass", 4}, {"seed", seed}}),
+               callbacks);
+    }
+    for (int passes : kRungs) {
+        const std::vector<Trust>& t = rungs[passes];
+        ASSERT_EQ(t.size(), size_t(kSeeds));
+        double reported = 0, truth = 0, coverage = 0;
+        for (const Trust& r : t) {
+            reported += r.reported * r.reported;
+            truth += r.truth * r.truth;
+            coverage += r.coverage / kSeeds;
+        }
+        const double ratio = std::sqrt(reported / truth);
+        std::printf("  %s, %d passes: reported / true error %.3f, 95%% coverage %.1f%%\n",
+                    GetParam().c_str(), passes, ratio, 100 * coverage);
+        EXPECT_GE(ratio, 0.8) << passes << " passes";
+        EXPECT_LE(ratio, 1.25) << passes << " passes";
+        EXPECT_LE(coverage, 0.99) << passes << " passes";
+        if (passes == 32) {
+            EXPECT_GE(coverage, leastCoverage(GetParam()));
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(ExampleScenes, ErrorTrust,
+                         ::testing::Values("cornell-box", "cornell-spheres", "bunny",
+                                           "caustic-glass", "meshes", "indirect"),
+                         [](const ::testing::TestParamInfo<std::string>& p) {
+                             std::string name = p.param;
+                             std::erase(name, '-');
+                             return name;
+                         });
+
+}  // namespace
+}  // namespace caustic
