@@ -51,6 +51,9 @@ std::vector<Config> allConfigs() {
         {"path-adaptive", {{"integrator", "path"}, {"spp_per_pass", 4}, {"adaptive", true}}},
         {"path-sobol-adaptive",
          {{"integrator", "path"}, {"spp_per_pass", 4}, {"sampler", "sobol"}, {"adaptive", true}}},
+        // The preview and final presets' settings (render/presets.cpp).
+        {"path-sobol-8-adaptive",
+         {{"integrator", "path"}, {"spp_per_pass", 8}, {"sampler", "sobol"}, {"adaptive", true}}},
         {"photon-k50", with({{"integrator", "photon"}, {"spp_per_pass", 4}, {"k", 50}})},
         {"photon-k200", with({{"integrator", "photon"}, {"spp_per_pass", 4}, {"k", 200}})},
         {"ppm", with({{"integrator", "ppm"}, {"spp_per_pass", 4}})},

@@ -232,6 +232,16 @@ def test_a_preset_sits_between_the_scene_and_the_request(server):
     assert_problem(r, 422, "/settings/preset", "valid: none, draft, preview, final")
 
 
+def test_the_error_of_photon_mapping_says_it_excludes_the_bias(server):
+    for integrator, biased in (("path", False), ("photon", True), ("ppm", True)):
+        job = submit_ok(server, {"scene": TINY_SCENE,
+                                 "settings": {"integrator": integrator, "spp": 2,
+                                              "photons": 1000}})
+        assert job["error_excludes_bias"] is biased, integrator
+        done = run_to_end(server, job["id"])
+        assert done["error_excludes_bias"] is biased and done["eta_reason"] is None, done
+
+
 def test_invalid_submissions_name_the_json_path(server):
     # The error cases: malformed JSON (400), invalid scene or settings or over a limit
     # (422 with the JSON path), a body over the limit (413, test_bad_input.py), unknown job (404),

@@ -178,9 +178,9 @@ TEST(SettingsPresets, SitBetweenTheSceneAndTheRequest) {
     EXPECT_EQ(s.spp, preview["spp"].get<int>());
     EXPECT_EQ(s.targetError, preview["target_error"].get<double>());
     EXPECT_EQ(s.maxDepth, 4);  // the preview preset leaves it to the scene
-    s = parseSettings(mergeSettings(scene, Json{{"preset", "preview"}, {"spp", 8}}));
-    EXPECT_EQ(s.spp, 8);
-    EXPECT_EQ(s.sppPerPass, 8);  // the preset's 16 per pass, cut to the spp asked
+    s = parseSettings(mergeSettings(scene, Json{{"preset", "preview"}, {"spp", 4}}));
+    EXPECT_EQ(s.spp, 4);
+    EXPECT_EQ(s.sppPerPass, 4);  // the preset's 8 per pass, cut to the spp asked
     s = parseSettings(mergeSettings(scene, Json{{"preset", "preview"}, {"spp", 160}}));
     EXPECT_EQ(s.sppPerPass, preview["spp_per_pass"].get<int>());
     // A scene's own preset is under its own values.
