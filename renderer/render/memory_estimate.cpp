@@ -105,9 +105,10 @@ size_t photonPeakBytes(const Scene& scene, const RenderSettings& settings, const
 
 }  // namespace
 
-size_t filmBytes(int width, int height) {
-    // As RenderSession::checkMemory counts it: the exact sums and the pass buffer.
-    return Film::bytesFor(width, height) + size_t(width) * size_t(height) * sizeof(Color);
+size_t filmBytes(int width, int height, bool adaptive) {
+    const size_t pixels = size_t(width) * size_t(height);
+    const size_t film = Film::bytesFor(width, height) + pixels * sizeof(Color);
+    return adaptive ? film + Film::bytesFor(width, height) + pixels * sizeof(uint16_t) : film;
 }
 
 // Photon tracing stores a photon at each non-specular hit, at most one per bounce: at most
@@ -129,7 +130,7 @@ MemoryEstimate estimateMemory(const Scene& scene, const RenderSettings& settings
     MemoryEstimate e;
     e.geometry = geometryBytes(scene, c);
     e.accelerator = acceleratorBytes(settings.accelerator, c);
-    e.film = filmBytes(scene.camera.width(), scene.camera.height());
+    e.film = filmBytes(scene.camera.width(), scene.camera.height(), settings.adaptive);
     e.lightTables = lightTableBytes(c);
     e.photonMaps = photonPeakBytes(scene, settings, c);
     return e;

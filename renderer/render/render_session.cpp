@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "render/forecast.h"
+#include "render/memory_estimate.h"
 #include "render/sample_map.h"
 
 namespace caustic {
@@ -95,7 +96,7 @@ std::unique_ptr<Film> RenderSession::makeFilm() const {
 void RenderSession::checkMemory() const {
     const size_t limit = settings_.memoryLimitBytes();
     const int width = scene_.camera.width(), height = scene_.camera.height();
-    const size_t film = Film::bytesFor(width, height) + size_t(width) * height * sizeof(Color);
+    const size_t film = filmBytes(width, height, settings_.adaptive);
     const size_t built =
         scene_.geometry.memoryBytes() + accel_->memoryBytes() + film + scene_.lightTableBytes();
     if (built > limit)
@@ -252,7 +253,8 @@ MemoryStats RenderSession::memory(const Film& film) const {
     memory.meshes = scene_.geometry.meshBytes();
     memory.geometry = scene_.geometry.memoryBytes() - memory.meshes;
     memory.accelerator = accel_->memoryBytes();
-    memory.film = film.memoryBytes() + passImage_.capacity() * sizeof(Color);
+    memory.film = film.memoryBytes() + passImage_.capacity() * sizeof(Color) +
+                  sampleMap_.capacity() * sizeof(uint16_t);
     memory.lightTables = scene_.lightTableBytes();
     memory.photonMaps = integrator_->memoryBytes();
     return memory;

@@ -39,6 +39,12 @@ TEST(MemoryEstimate, BoundsWhatTheExampleScenesBuild) {
             EXPECT_EQ(e.geometry, loaded->geometry.memoryBytes());
             // What a render session holds: the film and its pass buffer.
             EXPECT_EQ(e.film, Film::bytesFor(32, 24) + 32 * 24 * sizeof(Color));
+            // Adaptive sampling adds the sample map and the pilot's film, which a range started
+            // past the pilot renders again.
+            EXPECT_EQ(
+                estimateMemory(*counted, settingsFrom({{"accelerator", accel}, {"adaptive", true}}))
+                    .film,
+                e.film + Film::bytesFor(32, 24) + 32 * 24 * sizeof(uint16_t));
             EXPECT_GE(e.lightTables, loaded->lightTableBytes());
             EXPECT_GT(e.lightTables, 0u);
             const size_t built = createAccelerator(accel, loaded->geometry)->memoryBytes();
