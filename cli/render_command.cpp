@@ -94,8 +94,7 @@ int runRender(const RenderOptions& options) {
     if (!options.quiet) {
         const RenderStats& s = result.stats;
         char error[64] = "n/a (one pass)";
-        // Photon mapping's pass variance misses its bias (docs/study/README.md).
-        const bool biased = settings.integrator == "photon" || settings.integrator == "ppm";
+        const bool biased = errorExcludesBias(settings.integrator);
         if (std::isfinite(s.relativeError))
             std::snprintf(error, sizeof error, "%.3g%%%s", 100.0 * s.relativeError,
                           biased ? " (noise only: excludes the bias)" : "");

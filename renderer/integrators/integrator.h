@@ -92,6 +92,13 @@ protected:
 /// The integrator names `createIntegrator` accepts.
 const std::vector<std::string>& integratorNames();
 
+/// Whether the error estimated from the pass variance misses part of the integrator's error: the
+/// photon mappers' bias, which every pass shares (photon) or which shrinks pass by pass (ppm);
+/// docs/study/README.md measures it.
+inline bool errorExcludesBias(const std::string& integrator) {
+    return integrator == "photon" || integrator == "ppm";
+}
+
 /// Creates the integrator `settings.integrator`, with its own settings, for a scene and
 /// accelerator that outlive it. Throws InputError (path "/settings/integrator") for an unknown
 /// name, listing the valid ones.

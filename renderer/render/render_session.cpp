@@ -177,8 +177,8 @@ RangeResult RenderSession::renderRange(int first, int last, Film& film,
                 std::max(0.0, forecast->secondsLeft - (p.elapsedSeconds - history.back().seconds));
             p.etaReason = forecast->reason;
         } else if (passFraction > 0) {
-            // Within the first pass: the budget at the pace of this pass so far.
-            const double passes = passesTotal_ - film.passes() - passFraction;
+            // Within the first pass: the range at the pace of this pass so far.
+            const double passes = last - film.passes() - passFraction;
             p.etaSeconds = (p.elapsedSeconds - history.back().seconds) / passFraction * passes;
             if (settings_.timeLimit > 0 && settings_.timeLimit - p.elapsedSeconds < p.etaSeconds) {
                 p.etaSeconds = std::max(0.0, settings_.timeLimit - p.elapsedSeconds);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <ctime>
 
+#include "integrators/integrator.h"
+
 namespace caustic::server {
 
 Json timeJson(double unixSeconds) {
@@ -40,9 +42,7 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
         eta = live->etaSeconds;
         if (eta >= 0) etaReason = toString(live->etaReason);
     }
-    // Photon mapping's pass variance misses its bias (docs/study/README.md measures it).
-    const std::string integrator = job.settings.value("integrator", "");
-    const bool biased = integrator == "photon" || integrator == "ppm";
+    const bool biased = errorExcludesBias(job.settings.value("integrator", ""));
     Json links{
         {"self", self}, {"events", self + "/events"}, {"preview_png", self + "/preview.png"}};
     if (job.state == JobState::Succeeded) {
