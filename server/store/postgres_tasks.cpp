@@ -91,9 +91,21 @@ Json farmStats(pqxx::work& tx, const Job& job, const Film& film, const RenderSet
             {"stop_reason", toString(reason)}};
 }
 
+// The holder of the task's current attempt renders it no more: its row in the workers list says
+// so in the transaction that ends the task, not at its next heartbeat (a job that ended is never
+// listed as rendered). Call before the task's row loses its lease owner.
+void endHoldersTask(pqxx::work& tx, const Task& task, bool done) {
+    tx.exec_params(
+        "UPDATE workers SET job_id = '', first_pass = -1, last_pass = -1, tasks_done = tasks_done "
+        "+ $4 WHERE id = (SELECT lease_owner FROM tasks WHERE job_id = $1 AND first_pass = $2 "
+        "AND attempt = $3 AND state = 'running')",
+        task.jobId, task.firstPass, task.attempt, done ? 1 : 0);
+}
+
 // Puts a task its holder gives back in the queue; false when the holder's attempt is not the
 // task's current one.
 bool requeueTask(pqxx::work& tx, const Task& task) {
+    endHoldersTask(tx, task, /*done=*/false);
     return tx.exec_params(
                  "UPDATE tasks SET state = 'queued', lease_owner = '' WHERE job_id = $1 "
                  "AND first_pass = $2 AND attempt = $3 AND state = 'running'",
@@ -211,11 +223,7 @@ TaskCommit PostgresJobStore::completeTask(const Task& task, const TaskResult& re
         if (!job || job->state != JobState::Running) return TaskCommit::Fenced;
         const RenderSettings settings = parseSettings(job->settings);
         const bool inOrder = settings.targetError > 0;
-        tx.exec_params(
-            "UPDATE workers SET tasks_done = tasks_done + 1 WHERE id = (SELECT lease_owner FROM "
-            "tasks WHERE job_id = $1 AND first_pass = $2 AND attempt = $3 AND state = "
-            "'running')",
-            task.jobId, task.firstPass, task.attempt);
+        endHoldersTask(tx, task, /*done=*/true);
         pqxx::binarystring images(result.passImages);
         if (tx.exec_params("UPDATE tasks SET state = 'done', lease_owner = '', passes_done = $4, "
                            "rays = $5, render_seconds = $6, result = CASE WHEN $7::boolean THEN "
