@@ -50,7 +50,7 @@ int parseArgs(int argc, char** argv, Options& o) {
     caustic::cli::addNumber(app, "--queries", o.queries, 1, 1e9,
                             "Query points, the same for every index and size");
     caustic::cli::addNumber(app, "--leaves", o.leaves, 1, 1e6,
-                            "nanoflann leaf_max_size values, comma-separated (ours is fixed at 8)");
+                            "nanoflann leaf_max_size values, comma-separated (ours is fixed: PhotonKdTree::kLeafSize)");
     if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
     if (smoke) {
         o.repeats = 1;

@@ -91,9 +91,10 @@ size_t PhotonIntegrator::estimatedPeakBytes() const {
 
 size_t PhotonIntegrator::peakBytes(double storedPhotons) {
     // Tracing holds each photon twice while it joins the chunks (80 bytes); a map then holds 40
-    // bytes a photon, 16 in the tree and 12 of positions while it builds. A 10% margin covers the
-    // pilot's sampling error.
-    return size_t(1.1 * 80.0 * storedPhotons);
+    // bytes a photon, and while its tree builds 12 of positions, 16 of the build's working copy,
+    // and the tree's 16 and at most 1 of splits (photons/photon_kdtree.h): 85. A 10% margin
+    // covers the pilot's sampling error.
+    return size_t(1.1 * 85.0 * storedPhotons);
 }
 
 void PhotonIntegrator::checkMemory(size_t budgetBytes) const {

@@ -44,9 +44,11 @@ public:
 
 /// Squared distance in float, computed the same way by every implementation (so that ties and the
 /// dist2 <= bound tests agree to the bit).
-inline float distance2(const Vec3& a, const Vec3& b) {
-    Vec3 d = a - b;
+inline float squaredLength(const Vec3& d) {
     return d.x * d.x + d.y * d.y + d.z * d.z;
+}
+inline float distance2(const Vec3& a, const Vec3& b) {
+    return squaredLength(a - b);
 }
 
 /// Offers `n` to `heap`, a max-heap by the neighbour order holding the best (at most) k so far,

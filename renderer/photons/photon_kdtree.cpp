@@ -1,6 +1,7 @@
 #include "photons/photon_kdtree.h"
 
 #include <algorithm>
+#include <bit>
 
 #include "core/bounds.h"
 #include "core/check.h"
@@ -8,115 +9,169 @@
 namespace caustic {
 namespace {
 
-// Ranges this small are scanned in a loop instead of split further by the search.
-constexpr uint32_t kLeafSize = 8;
 // Up to this k, nearest() keeps its neighbours in a sorted array; above it, in a heap.
-constexpr size_t kSortedInsertionK = 64;
+constexpr size_t kSortedInsertionK = 128;
 // Ranges larger than this are built as OpenMP tasks.
 constexpr uint32_t kParallelSize = 1u << 15;
+// A cell's squared distance is scaled by this before it is compared with the bound, so that a
+// rounding that differs between it and a point's distance2 (contracted into FMAs in one place
+// and not the other) never skips a point at exactly the bound. It visits a few more cells.
+constexpr float kCellShrink = 1.0f - 0x1p-20f;
+
+bool isLeaf(uint32_t lo, uint32_t hi) {
+    return hi - lo <= PhotonKdTree::kLeafSize;
+}
+
+int splitLevels(size_t n) {
+    int levels = 0;
+    for (; n > PhotonKdTree::kLeafSize; n = n - n / 2) ++levels;
+    return levels;
+}
 
 }  // namespace
 
-PhotonKdTree::PhotonKdTree(const std::vector<Vec3>& points) {
-    CAUSTIC_CHECK(points.size() <= kIdMask);
-    nodes_.resize(points.size());
-    for (size_t i = 0; i < points.size(); ++i) nodes_[i] = Node{points[i], uint32_t(i)};
+PhotonKdTree::PhotonKdTree(const std::vector<Vec3>& points)
+    : size_(points.size()), depth_(splitLevels(points.size())) {
+    CAUSTIC_CHECK(points.size() < (size_t(1) << 31));
+    std::vector<Point> work(points.size());
+    for (size_t i = 0; i < points.size(); ++i) work[i] = Point{points[i], uint32_t(i)};
+    splits_.resize((size_t(1) << depth_) - 1);
+    if (!points.empty()) coords_.resize(3 * points.size() + 2 * (kLeafSize - 1), 0.0f);
+    ids_.resize(points.size());
 #pragma omp parallel
 #pragma omp single
-    build(0, uint32_t(nodes_.size()), 0);
+    build(work, 0, uint32_t(work.size()), 0);
 }
 
-void PhotonKdTree::build(uint32_t lo, uint32_t hi, int depth) {
-    if (hi - lo <= 1) return;
+void PhotonKdTree::build(std::vector<Point>& points, uint32_t lo, uint32_t hi, uint32_t node) {
+    if (isLeaf(lo, hi)) {
+        const uint32_t n = hi - lo;
+        float* leaf = &coords_[3 * size_t(lo)];
+        for (uint32_t i = 0; i < n; ++i) {
+            leaf[i] = points[lo + i].p.x;
+            leaf[n + i] = points[lo + i].p.y;
+            leaf[2 * n + i] = points[lo + i].p.z;
+            ids_[lo + i] = points[lo + i].id;
+        }
+        return;
+    }
     Bounds3 b;
-    for (uint32_t i = lo; i < hi; ++i) b.extend(nodes_[i].p);
-    Vec3 extent = b.hi - b.lo;
-    int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-    uint32_t mid = lo + (hi - lo) / 2;
+    for (uint32_t i = lo; i < hi; ++i) b.extend(points[i].p);
+    const Vec3 extent = b.hi - b.lo;
+    const int axis =
+        extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    const uint32_t mid = lo + (hi - lo) / 2;
     // Ties on the axis are ordered by input index, so that the tree is the same on every run.
-    std::nth_element(nodes_.begin() + lo, nodes_.begin() + mid, nodes_.begin() + hi,
-                     [axis](const Node& a, const Node& c) {
-                         return a.p[axis] < c.p[axis] ||
-                                (a.p[axis] == c.p[axis] && a.id() < c.id());
+    std::nth_element(points.begin() + lo, points.begin() + mid, points.begin() + hi,
+                     [axis](const Point& a, const Point& c) {
+                         return a.p[axis] < c.p[axis] || (a.p[axis] == c.p[axis] && a.id < c.id);
                      });
-    nodes_[mid].idAxis = nodes_[mid].id() | (uint32_t(axis) << 30);
+    splits_[node] = Split{points[mid].p[axis], uint32_t(axis)};
     if (hi - lo > kParallelSize) {
-#pragma omp task
-        build(lo, mid, depth + 1);
-#pragma omp task
-        build(mid + 1, hi, depth + 1);
+#pragma omp task shared(points)
+        build(points, lo, mid, 2 * node + 1);
+#pragma omp task shared(points)
+        build(points, mid, hi, 2 * node + 2);
 #pragma omp taskwait
     } else {
-        build(lo, mid, depth + 1);
-        build(mid + 1, hi, depth + 1);
+        build(points, lo, mid, 2 * node + 1);
+        build(points, mid, hi, 2 * node + 2);
     }
 }
 
-// Visits every point that may lie within sqrt(bound2) of p; `visit` may shrink bound2. A far side
-// is skipped only when its splitting plane is farther than the bound: every point beyond a plane
-// at distance d has dist2 >= d^2, exactly also in float (distance2 adds d^2 to non-negative
-// terms), so no point within the bound, ties included, is missed.
+// Calls visit(dist2, id) for every point of every cell within sqrt(bound2) of p whose dist2 <=
+// bound2; `visit` may shrink bound2. A cell's distance is exact, as in nanoflann (Arya and Mount
+// 1993, "Algorithms for fast vector quantization"): a range carries p's offset from its cell on
+// each axis, and a far side's offset on the splitting axis is p's distance to the plane, whatever
+// it was before. Every point of a cell has each coordinate difference at least the cell's offset
+// on that axis (subtraction and squaring round monotonically), so its dist2 is at least the
+// cell's squared distance, up to the rounding kCellShrink allows for.
 template <typename Visit>
 void PhotonKdTree::search(const Vec3& p, float& bound2, Visit&& visit) const {
-    // A range still to search and the squared distance of its nearest possible point.
     struct Range {
-        uint32_t lo, hi;
+        uint32_t lo, hi, node;
         float min2;
+        Vec3 offset;
     };
-    Range stack[64];  // one entry per level at most: the depth of 2^30 points is 31
+    Range stack[64];  // one entry per level at most: fewer than 2^31 points have 31 levels
     int top = 0;
-    stack[top++] = {0, uint32_t(nodes_.size()), 0.0f};
+    if (size_ > 0) stack[top++] = {0, uint32_t(size_), 0, 0.0f, Vec3(0.0f)};
     while (top > 0) {
         Range r = stack[--top];
         if (r.min2 > bound2) continue;
-        if (r.hi - r.lo <= kLeafSize) {
-            for (uint32_t i = r.lo; i < r.hi; ++i) visit(nodes_[i]);
-            continue;
+        // Down to the leaf on p's side, leaving the far sides on the stack: they are searched
+        // after it, nearest last pushed first, each tested against the bound it shrank to.
+        while (!isLeaf(r.lo, r.hi)) {
+            const uint32_t mid = r.lo + (r.hi - r.lo) / 2;
+            const Split split = splits_[r.node];
+            const float d = p[int(split.axis)] - split.value;
+            Range far = r;
+            if (d < 0.0f) {
+                far.lo = mid;
+                far.node = 2 * r.node + 2;
+                r.hi = mid;
+                r.node = 2 * r.node + 1;
+            } else {
+                far.hi = mid;
+                far.node = 2 * r.node + 1;
+                r.lo = mid;
+                r.node = 2 * r.node + 2;
+            }
+            far.offset[int(split.axis)] = std::abs(d);
+            far.min2 = squaredLength(far.offset) * kCellShrink;
+            if (far.min2 <= bound2) stack[top++] = far;
         }
-        uint32_t mid = r.lo + (r.hi - r.lo) / 2;
-        const Node& node = nodes_[mid];
-        visit(node);
-        float d = p[node.axis()] - node.p[node.axis()];
-        float d2 = std::max(r.min2, d * d);
-        Range nearSide = d < 0.0f ? Range{r.lo, mid, r.min2} : Range{mid + 1, r.hi, r.min2};
-        Range farSide = d < 0.0f ? Range{mid + 1, r.hi, d2} : Range{r.lo, mid, d2};
-        // The far side goes on the stack first, so the near side is searched first and shrinks
-        // the bound; the far side is tested against the bound again when it is popped.
-        if (d2 <= bound2 && farSide.lo < farSide.hi) stack[top++] = farSide;
-        if (nearSide.lo < nearSide.hi) stack[top++] = nearSide;
+        const uint32_t n = r.hi - r.lo;
+        const float* x = &coords_[3 * size_t(r.lo)];
+        const float* y = x + n;
+        const float* z = y + n;
+        float d2[kLeafSize];
+        for (uint32_t i = 0; i < kLeafSize; ++i) d2[i] = squaredLength(Vec3(x[i], y[i], z[i]) - p);
+        for (uint32_t i = 0; i < n; ++i)
+            if (d2[i] <= bound2) visit(d2[i], ids_[r.lo + i]);
     }
 }
 
 void PhotonKdTree::nearest(const Vec3& p, int k, float maxDist2, std::vector<Neighbor>& out) const {
     out.clear();
-    if (k <= 0 || nodes_.empty()) return;
+    if (k <= 0) return;
     const auto limit = size_t(k);
     float bound2 = maxDist2;
     if (limit <= kSortedInsertionK) {
-        // `out` stays sorted and at most k long: a new neighbour enters from the back and moves
-        // forward past worse ones: no heap sifting and no final sort.
-        search(p, bound2, [&](const Node& node) {
-            Neighbor n{distance2(node.p, p), node.id()};
-            if (!(n.dist2 <= maxDist2)) return;
-            if (out.size() < limit) {
-                out.push_back(n);
-            } else if (n < out.back()) {
-                out.back() = n;
+        // A neighbour is one 64-bit key, its dist2's bits above its index: dist2 >= +0 (a sum
+        // of squares), and the bits of non-negative floats order as the floats do, so one
+        // integer comparison is the neighbour order. The first k found are taken as they come
+        // and sorted once; after that `best` stays sorted: a better key is held in a register
+        // while the worse ones move up a place, and is written once where it belongs (as
+        // nanoflann's KNNResultSet does; swapping it forward step by step stalls on its own
+        // stores, and inserting the first k one by one costs O(k^2)).
+        uint64_t best[kSortedInsertionK];
+        size_t count = 0;
+        search(p, bound2, [&](float dist2, uint32_t id) {
+            const uint64_t key = uint64_t(std::bit_cast<uint32_t>(dist2)) << 32 | id;
+            if (count < limit) {
+                best[count++] = key;
+                if (count < limit) return;
+                std::sort(best, best + limit);
             } else {
-                return;
+                if (key >= best[limit - 1]) return;
+                size_t i = limit - 1;
+                for (; i > 0 && key < best[i - 1]; --i) best[i] = best[i - 1];
+                best[i] = key;
             }
-            for (size_t i = out.size() - 1; i > 0 && out[i] < out[i - 1]; --i)
-                std::swap(out[i], out[i - 1]);
-            if (out.size() == limit) bound2 = out.back().dist2;
+            bound2 = std::bit_cast<float>(uint32_t(best[limit - 1] >> 32));
         });
+        if (count < limit) std::sort(best, best + count);
+        out.resize(count);
+        for (size_t i = 0; i < count; ++i)
+            out[i] = Neighbor{std::bit_cast<float>(uint32_t(best[i] >> 32)), uint32_t(best[i])};
         return;
     }
     // Large k: insertion would cost O(k) a photon, so `out` is a max-heap by the neighbour order
     // whose front is the worst of the k best so far, sorted at the end.
-    search(p, bound2, [&](const Node& node) {
-        Neighbor n{distance2(node.p, p), node.id()};
-        if (!(n.dist2 <= maxDist2)) return;
-        if (offerToHeap(out, limit, n) && out.size() == limit) bound2 = out.front().dist2;
+    search(p, bound2, [&](float dist2, uint32_t id) {
+        if (offerToHeap(out, limit, Neighbor{dist2, id}) && out.size() == limit)
+            bound2 = out.front().dist2;
     });
     std::sort_heap(out.begin(), out.end());
 }
@@ -124,17 +179,8 @@ void PhotonKdTree::nearest(const Vec3& p, int k, float maxDist2, std::vector<Nei
 void PhotonKdTree::withinRadius(const Vec3& p, float radius2, std::vector<Neighbor>& out) const {
     out.clear();
     float bound2 = radius2;
-    search(p, bound2, [&](const Node& node) {
-        float d2 = distance2(node.p, p);
-        if (d2 <= radius2) out.push_back(Neighbor{d2, node.id()});
-    });
+    search(p, bound2, [&](float dist2, uint32_t id) { out.push_back(Neighbor{dist2, id}); });
     std::sort(out.begin(), out.end());
-}
-
-int PhotonKdTree::depth() const {
-    int d = 0;
-    for (size_t n = nodes_.size(); n > 0; n /= 2) ++d;
-    return d;
 }
 
 }  // namespace caustic

@@ -16,7 +16,7 @@ namespace caustic {
 
 enum class PhotonPath : uint8_t { Direct, Caustic, Indirect };
 
-/// A photon stored on a surface: 40 bytes (plus 16 in a PhotonKdTree).
+/// A photon stored on a surface: 40 bytes (plus about 17 in a PhotonKdTree).
 struct Photon {
     Vec3 p;
     Vec3 wi;      ///< Unit direction it came from (pointing away from the surface).

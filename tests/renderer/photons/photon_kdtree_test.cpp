@@ -65,7 +65,7 @@ TEST(PhotonKdTree, EmptyMapFindsNothing) {
 TEST(PhotonKdTree, OnePointMap) {
     using V = std::vector<Neighbor>;
     PhotonKdTree tree(Points{{1, 2, 3}});
-    EXPECT_EQ(tree.depth(), 1);
+    EXPECT_EQ(tree.depth(), 0);
     V out;
     tree.nearest(Vec3(1, 2, 3), 1, 0.0f, out);
     EXPECT_EQ(out, (V{{0, 0}}));
@@ -118,31 +118,39 @@ TEST(PhotonKdTree, ParallelQueriesMatchSerial) {
     EXPECT_GT(found, 0u);  // the radii are not all too small to find anything
 }
 
-TEST(PhotonKdTree, MemoryIsSixteenBytesPerPoint) {
-    // A position and a packed index-and-axis per point, nothing else.
-    for (size_t n : {0, 1, 7, 8, 9, 100, 10000, 40000}) {
+// The levels of the median-split recursion, computed directly: a range of more than a leaf's
+// points splits into n / 2 and n - n / 2.
+int splitDepth(size_t n) {
+    return n <= PhotonKdTree::kLeafSize ? 0
+                                        : 1 + std::max(splitDepth(n / 2), splitDepth(n - n / 2));
+}
+
+TEST(PhotonKdTree, MemoryIsSixteenBytesPerPointAndTheSplits) {
+    // A position and an index per point, one split (8 bytes) per inner range of a complete tree
+    // of the depth, and a leaf's padding; nothing for an empty map.
+    constexpr size_t kPadding = 2 * (PhotonKdTree::kLeafSize - 1) * sizeof(float);
+    EXPECT_EQ(PhotonKdTree(Points{}).memoryBytes(), 0u);
+    for (size_t n : {1, 7, 8, 9, 16, 17, 100, 10000, 40000}) {
         Points points = uniformCloud(n, -1.0f, 1.0f, uint32_t(n));
         PhotonKdTree tree(points);
         EXPECT_EQ(tree.size(), n);
-        EXPECT_EQ(tree.memoryBytes(), 16 * n) << n << " points";
+        const size_t splits = (size_t(1) << splitDepth(n)) - 1;
+        EXPECT_EQ(tree.memoryBytes(), 16 * n + 8 * splits + kPadding) << n << " points";
+        EXPECT_LE(8 * splits, 16 * n) << n << " points";
         EXPECT_EQ(BruteForceNeighbors(points).memoryBytes(), sizeof(Vec3) * n) << n << " points";
     }
 }
 
-// The depth of the median-split recursion, computed directly: a range of n splits into n / 2
-// and n - n / 2 - 1.
-int splitDepth(size_t n) {
-    return n == 0 ? 0 : 1 + std::max(splitDepth(n / 2), splitDepth(n - n / 2 - 1));
-}
-
-TEST(PhotonKdTree, DepthIsCeilLog2OfCountPlusOne) {
+TEST(PhotonKdTree, DepthIsTheSplitLevelsOverLeavesOfAtMostLeafSize) {
     std::vector<size_t> sizes;
     for (size_t n = 0; n <= 300; ++n) sizes.push_back(n);
     for (size_t n : {511, 512, 513, 1023, 1024, 1025, 65535, 65536, 65537}) sizes.push_back(n);
     Points all = uniformCloud(65537, -1.0f, 1.0f, 91);
     for (size_t n : sizes) {
         PhotonKdTree tree(Points(all.begin(), all.begin() + ptrdiff_t(n)));
-        int expected = int(std::ceil(std::log2(double(n) + 1.0)));
+        // Leaves of at most kLeafSize points: ceil(log2(ceil(n / kLeafSize))) levels.
+        const size_t leaves = (n + PhotonKdTree::kLeafSize - 1) / PhotonKdTree::kLeafSize;
+        const int expected = leaves <= 1 ? 0 : int(std::ceil(std::log2(double(leaves))));
         EXPECT_EQ(tree.depth(), expected) << n << " points";
         EXPECT_EQ(tree.depth(), splitDepth(n)) << n << " points";
     }
