@@ -99,18 +99,30 @@ public:
     }
 
 private:
-    double cost(const Bounds3& box, int axis, float pos, size_t nBelow, size_t nAbove) const {
-        glm::dvec3 d = diagonal(box);
-        int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
-        double cap = d[o1] * d[o2], ring = d[o1] + d[o2];
-        double belowArea = 2.0 * (cap + (double(pos) - box.lo[axis]) * ring);
-        double aboveArea = 2.0 * (cap + (box.hi[axis] - double(pos)) * ring);
-        double invArea = 1.0 / surfaceArea(box);
-        double bonus = (nBelow == 0 || nAbove == 0) ? options_.emptyBonus : 0.0;
-        return options_.traversalCost +
-               options_.intersectCost * (1.0 - bonus) *
-                   (belowArea * invArea * double(nBelow) + aboveArea * invArea * double(nAbove));
-    }
+    // The SAH cost of splitting `box` on one axis, with what it needs computed once per node and
+    // axis rather than once per candidate plane (a node of n references has 2n of them).
+    class SplitCost {
+    public:
+        SplitCost(const KdTreeOptions& options, const Bounds3& box, int axis)
+            : options_(options), lo_(box.lo[axis]), hi_(box.hi[axis]) {
+            const glm::dvec3 d = diagonal(box);
+            const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
+            const double invArea = 1.0 / surfaceArea(box);
+            cap_ = 2.0 * d[o1] * d[o2] * invArea;
+            ring_ = 2.0 * (d[o1] + d[o2]) * invArea;
+        }
+        double operator()(float pos, size_t nBelow, size_t nAbove) const {
+            const double below = cap_ + (double(pos) - lo_) * ring_;
+            const double above = cap_ + (hi_ - double(pos)) * ring_;
+            const double bonus = (nBelow == 0 || nAbove == 0) ? options_.emptyBonus : 0.0;
+            return options_.traversalCost + options_.intersectCost * (1.0 - bonus) *
+                                                (below * double(nBelow) + above * double(nAbove));
+        }
+
+    private:
+        const KdTreeOptions& options_;
+        double lo_, hi_, cap_ = 0, ring_ = 0;
+    };
 
     Split findBinned(const std::vector<Ref>& refs, const Bounds3& box) const {
         Split best;
@@ -118,6 +130,7 @@ private:
             double lo = box.lo[axis], extent = double(box.hi[axis]) - lo;
             if (!(extent > 0.0)) continue;
             double scale = kBins / extent;
+            const SplitCost cost(options_, box, axis);
             size_t starts[kBins] = {}, ends[kBins] = {};
             for (const Ref& r : refs) {
                 ++starts[binOf((r.b.lo[axis] - lo) * scale)];
@@ -130,7 +143,7 @@ private:
                 auto pos = float(lo + extent * i / kBins);
                 // A box a few floats wide has bin edges that round onto its faces.
                 if (!(pos > box.lo[axis] && pos < box.hi[axis])) continue;
-                double c = cost(box, axis, pos, nBelow, nAbove);
+                double c = cost(pos, nBelow, nAbove);
                 if (c < best.cost) best = Split{axis, pos, c};
             }
         }
@@ -154,11 +167,12 @@ private:
                 events[2 * i + 1] = Event{refs[i].b.hi[axis], 1};
             }
             std::sort(events.begin(), events.end());
+            const SplitCost cost(options_, box, axis);
             size_t nBelow = 0, nAbove = refs.size();
             for (const Event& e : events) {
                 if (e.type == 1) --nAbove;
                 if (e.pos > box.lo[axis] && e.pos < box.hi[axis]) {
-                    double c = cost(box, axis, e.pos, nBelow, nAbove);
+                    double c = cost(e.pos, nBelow, nAbove);
                     if (c < best.cost) best = Split{axis, e.pos, c};
                 }
                 if (e.type == 0) ++nBelow;
