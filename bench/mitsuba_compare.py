@@ -46,9 +46,17 @@ def parse_args():
                    "(default: the caustic binary's build dir /mitsuba_compare)")
     p.add_argument("--smoke", action="store_true",
                    help="32x32, 4 spp, 16 spp references, 1 repeat (what CTest runs)")
+    p.add_argument("--ladder", type=lambda v: [int(x) for x in v.split(",")],
+                   help="comma-separated spp: measure the time each renderer needs to reach the "
+                   "same RMSE instead (bench/equal_error.py), e.g. 8,16,32,64,128,256")
+    p.add_argument("--caustic-set", action="append", default=[], metavar="KEY=VALUE",
+                   help="a setting for Caustic's timed renders (not its reference), repeatable: "
+                   "sampler=sobol, spp_per_pass=16")
     args = p.parse_args()
     if args.smoke:
         args.size, args.spp, args.ref_spp, args.repeats = 32, 4, 16, 1
+        if args.ladder:
+            args.ladder = [1, 2, 4]
     if args.cache_dir is None:
         args.cache_dir = str(Path(args.caustic).resolve().parent.parent / "mitsuba_compare")
     return args
@@ -96,6 +104,16 @@ def bsdf(material):
     sys.exit(f"mitsuba_compare: material type {kind!r} has no translation")
 
 
+def mesh_to_world(t):
+    """Caustic's mesh transform (scene/mesh_loader.cpp): scale, then rotate about x, y and z in
+    degrees, then translate. Caustic shades meshes flat: face normals in Mitsuba too."""
+    scale = t.get("scale", 1.0)
+    scale = [float(scale)] * 3 if isinstance(scale, (int, float)) else [float(c) for c in scale]
+    rx, ry, rz = (float(c) for c in t.get("rotate", [0, 0, 0]))
+    return (mi.ScalarTransform4f().translate([float(c) for c in t.get("translate", [0, 0, 0])])
+            .rotate([0, 0, 1], rz).rotate([0, 1, 0], ry).rotate([1, 0, 0], rx).scale(scale))
+
+
 def shape(s, materials):
     material = materials[s["material"]]
     if s["type"] == "quad":
@@ -103,6 +121,9 @@ def shape(s, materials):
     elif s["type"] == "sphere":
         out = {"type": "sphere", "center": [float(c) for c in s["center"]],
                "radius": float(s["radius"]), "flip_normals": bool(s.get("flip_normals", False))}
+    elif s["type"] == "mesh":
+        out = {"type": "obj", "filename": str(REPO / "assets/meshes" / s["file"]),
+               "face_normals": True, "to_world": mesh_to_world(s.get("transform", {}))}
     else:
         sys.exit(f"mitsuba_compare: shape type {s['type']!r} has no translation")
     out["bsdf"] = bsdf(material)
@@ -155,13 +176,15 @@ def read_exr(path):
     return np.array(bitmap, dtype=np.float64)
 
 
-def render_caustic(scene_path, spp, seed, args):
+def render_caustic(scene_path, spp, seed, args, settings=()):
     """Returns (image, stats dict, {wall, cpu} seconds of the whole process)."""
     out, stats = scene_path.with_name("render.exr"), scene_path.with_name("stats.json")
     cmd = [args.caustic, "render", str(scene_path), "-o", str(out), "--stats", str(stats),
            "--no-progress", "--set", "integrator=path", "--set", f"spp={spp}",
            "--set", f"seed={seed}", "--set", f"max_depth={args.max_depth}",
            "--set", f"rr_depth={args.rr_depth}"]
+    for setting in settings:
+        cmd += ["--set", setting]
     cpu0, t0 = cpu_seconds(resource.RUSAGE_CHILDREN), time.perf_counter()
     done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if done.returncode != 0:
@@ -210,7 +233,11 @@ def main():
     with tempfile.TemporaryDirectory() as scratch:
         scene_path = Path(scratch) / "scene.json"
         scene_path.write_text(json.dumps(scene))
-        measure(args, scene, scene_path, cache)
+        if args.ladder:
+            import equal_error
+            equal_error.measure(args, scene, scene_path, cache)
+        else:
+            measure(args, scene, scene_path, cache)
 
 
 def measure(args, scene, scene_path, cache):

@@ -1,0 +1,93 @@
+"""Time to equal error: Caustic against Mitsuba 3 on one scene (mitsuba_compare.py --ladder).
+
+Each renderer renders the scene once at every spp of the ladder (seed = the rung's index); each
+image's RMSE is taken against Caustic's long reference, less that reference's own noise. For every
+rung of Mitsuba's ladder, the time Caustic needs to reach Mitsuba's RMSE there is interpolated on
+Caustic's ladder, linearly in log(time) against log(RMSE) (error falls as a power of time, so
+that is a straight line between rungs); beyond Caustic's ladder the line of its last two rungs is
+extended. The ratio is Mitsuba's time over Caustic's: above 1, Caustic is faster to that error.
+See bench/README.md, "mitsuba_compare".
+"""
+import math
+import os
+import shlex
+import sys
+
+import numpy as np
+
+import mitsuba_compare as mc
+
+
+def reference_noise2(runs, ref_spp):
+    """The squared RMSE the reference's own noise adds to every measured one: Caustic's squared
+    error is about c / spp, and its reference's noise is c / ref_spp; c is estimated from the
+    ladder's highest rung, whose error the reference's noise inflates the least."""
+    top = max(runs, key=lambda r: r["spp"])
+    # measured^2 = c / spp + c / ref_spp: solve for c.
+    c = top["raw2"] / (1.0 / top["spp"] + 1.0 / ref_spp)
+    return c / ref_spp
+
+
+def time_to(rmse, runs):
+    """Seconds the ladder `runs` (sorted by spp) needs to reach `rmse`, interpolated in log-log."""
+    pts = [(math.log(r["rmse"]), math.log(r["time"])) for r in runs if r["rmse"] > 0]
+    target = math.log(rmse)
+    for (e0, t0), (e1, t1) in zip(pts, pts[1:]):
+        if e1 <= target <= e0 and e0 != e1:
+            return math.exp(t0 + (t1 - t0) * (target - e0) / (e1 - e0))
+    (e0, t0), (e1, t1) = (pts[0], pts[1]) if target > pts[0][0] else (pts[-2], pts[-1])
+    if e0 == e1:
+        return float("nan")
+    return math.exp(t0 + (t1 - t0) * (target - e0) / (e1 - e0))
+
+
+def measure(args, scene, scene_path, cache):
+    command = os.environ.get("MITSUBA_COMPARE_COMMAND") or shlex.join(sys.argv)
+    print(f"Machine: nproc {os.cpu_count()}, {mc.cpu_model()}, Mitsuba {mc.mi.__version__} "
+          f"scalar_rgb. Command: `{command}`\n")
+    ref, how = mc.reference("caustic", scene, scene_path, cache, args)
+    load_before = os.getloadavg()[0]
+    # Untimed warm-ups at the lowest rung (a setting such as spp_per_pass may need that many).
+    mc.render_caustic(scene_path, min(args.ladder), 0, args, args.caustic_set)
+    mc.render_mitsuba(scene, 1, 0, args)
+    runs = {"caustic": [], "mitsuba": []}
+    for seed, spp in enumerate(sorted(args.ladder)):
+        image, stats, _ = mc.render_caustic(scene_path, spp, seed, args, args.caustic_set)
+        runs["caustic"].append({"spp": spp, "image": image,
+                                "time": stats["render_seconds"] + stats["setup_seconds"]})
+        image, seconds = mc.render_mitsuba(scene, spp, seed, args)
+        runs["mitsuba"].append({"spp": spp, "image": image, "time": seconds["render"]})
+    for rs in runs.values():
+        for r in rs:
+            r["raw2"] = float(np.mean((r["image"] - ref) ** 2))
+    noise2 = reference_noise2(runs["caustic"], args.ref_spp)
+    for rs in runs.values():
+        for r in rs:
+            r["rmse"] = math.sqrt(max(r["raw2"] - noise2, 0.0))
+    report(args, runs, how, math.sqrt(noise2), (load_before, os.getloadavg()[0]))
+
+
+def report(args, runs, how, ref_noise, loads):
+    settings = ", ".join(args.caustic_set) or "the scene's"
+    print(f"{os.path.basename(args.scene)}, {args.size}x{args.size}, every core for both; "
+          f"Caustic `path` with settings {settings}; Mitsuba `path`, independent sampler; "
+          f"Caustic max_depth {args.max_depth} = Mitsuba max_depth {args.max_depth + 1}, "
+          f"rr_depth {args.rr_depth}. Reference: Caustic, {args.ref_spp} spp, {how}; its own "
+          f"noise, {ref_noise:.5f} RMSE, is taken out of every RMSE. Load average (1 min) "
+          f"{loads[0]:.2f} before, {loads[1]:.2f} after.\n")
+    print("| spp | Caustic s | Caustic RMSE | Mitsuba s | Mitsuba RMSE | Caustic s to Mitsuba's "
+          "RMSE | Mitsuba / Caustic time to equal RMSE |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
+    ratios = []
+    for c, m in zip(runs["caustic"], runs["mitsuba"]):
+        t = time_to(m["rmse"], runs["caustic"]) if m["rmse"] > 0 else float("nan")
+        ratio = m["time"] / t if t > 0 else float("nan")
+        if math.isfinite(ratio):
+            ratios.append(ratio)
+        print(f"| {c['spp']} | {c['time']:.3f} | {c['rmse']:.5f} | {m['time']:.3f} | "
+              f"{m['rmse']:.5f} | {t:.3f} | {ratio:.2f}x |")
+    if ratios:
+        mean = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
+        goal = "met" if mean >= 5 else "NOT met"
+        print(f"\n**Mitsuba / Caustic time to equal RMSE: {mean:.2f}x** (geometric mean over the "
+              f"rungs; goal at least 5x: {goal}).")
