@@ -7,13 +7,11 @@ Renders the scene with both, interleaved, --repeats times; prints Markdown with 
 geometry, materials, camera and box pixel filter. See bench/README.md, "mitsuba_compare".
 """
 import argparse
-import hashlib
 import json
 import os
 import resource
 import shlex
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -22,6 +20,7 @@ from pathlib import Path
 # numpy's OpenBLAS threads spin after start-up and would take CPU from Mitsuba's render; this
 # script needs no BLAS.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import caustic_cli  # noqa: E402
 import mitsuba as mi  # noqa: E402
 import numpy as np  # noqa: E402
 
@@ -152,22 +151,15 @@ def mitsuba_dict(scene, spp, max_depth, rr_depth):
     return d
 
 
-def cpu_seconds(who):
-    """User + system CPU seconds of every thread of this process, or of its waited-for children:
-    less sensitive than wall time to other work on a shared machine."""
-    usage = resource.getrusage(who)
-    return usage.ru_utime + usage.ru_stime
-
-
 def render_mitsuba(scene, spp, seed, args):
     """Returns (image, {load, render, cpu} seconds); cpu covers the load and the render."""
-    cpu0, t0 = cpu_seconds(resource.RUSAGE_SELF), time.perf_counter()
+    cpu0, t0 = caustic_cli.cpu_seconds(resource.RUSAGE_SELF), time.perf_counter()
     loaded = mi.load_dict(mitsuba_dict(scene, spp, args.max_depth, args.rr_depth))
     t1 = time.perf_counter()
     image = np.array(mi.render(loaded, spp=spp, seed=seed), dtype=np.float64)
     t2 = time.perf_counter()
     return image, {"load": t1 - t0, "render": t2 - t1,
-                   "cpu": cpu_seconds(resource.RUSAGE_SELF) - cpu0}
+                   "cpu": caustic_cli.cpu_seconds(resource.RUSAGE_SELF) - cpu0}
 
 
 def read_exr(path):
@@ -178,30 +170,13 @@ def read_exr(path):
 
 def render_caustic(scene_path, spp, seed, args, settings=()):
     """Returns (image, stats dict, {wall, cpu} seconds of the whole process)."""
-    out, stats = scene_path.with_name("render.exr"), scene_path.with_name("stats.json")
-    cmd = [args.caustic, "render", str(scene_path), "-o", str(out), "--stats", str(stats),
-           "--no-progress", "--set", "integrator=path", "--set", f"spp={spp}",
-           "--set", f"seed={seed}", "--set", f"max_depth={args.max_depth}",
-           "--set", f"rr_depth={args.rr_depth}"]
-    for setting in settings:
-        cmd += ["--set", setting]
-    cpu0, t0 = cpu_seconds(resource.RUSAGE_CHILDREN), time.perf_counter()
-    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if done.returncode != 0:
-        sys.exit(f"mitsuba_compare: {shlex.join(cmd)} failed:\n{done.stderr}")
-    process = {"wall": time.perf_counter() - t0,
-               "cpu": cpu_seconds(resource.RUSAGE_CHILDREN) - cpu0}
-    return read_exr(out), json.loads(stats.read_text())["stats"], process
+    return caustic_cli.render(args, scene_path, spp, seed, settings, read_exr)
 
 
 def reference(renderer, scene, scene_path, cache, args):
     """The high-spp reference of one renderer, cached by everything that determines it."""
-    # Caustic's reference also depends on the binary: a rebuilt renderer renders it anew.
-    binary = hashlib.sha256(Path(args.caustic).read_bytes()).hexdigest() \
-        if renderer == "caustic" else mi.__version__
-    key = json.dumps([renderer, binary, scene, args.ref_spp, args.max_depth, args.rr_depth,
-                      REFERENCE_SEED], sort_keys=True)
-    path = cache / f"reference-{renderer}-{hashlib.sha256(key.encode()).hexdigest()[:16]}.npy"
+    version = caustic_cli.binary_hash(args.caustic) if renderer == "caustic" else mi.__version__
+    path = cache / caustic_cli.reference_key(renderer, version, scene, args, REFERENCE_SEED)
     if path.exists():
         return np.load(path), "cached"
     t0 = time.perf_counter()

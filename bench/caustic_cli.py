@@ -1,0 +1,50 @@
+"""Caustic's side of the comparisons with other renderers (bench/mitsuba_compare.py,
+bench/cycles_compare.py): a render through the CLI, timed by its own stats and by the process's
+CPU, and the cache key of a reference."""
+import hashlib
+import json
+import resource
+import shlex
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+
+def cpu_seconds(who):
+    """User + system CPU seconds of every thread of this process, or of its waited-for children:
+    less sensitive than wall time to other work on a shared machine."""
+    usage = resource.getrusage(who)
+    return usage.ru_utime + usage.ru_stime
+
+
+def render(args, scene_path, spp, seed, settings, read_exr):
+    """Renders with `caustic render` (path tracing, args.max_depth and args.rr_depth, the
+    settings KEY=VALUE given); returns (image read by read_exr, stats dict, {wall, cpu} seconds of
+    the whole process)."""
+    out, stats = scene_path.with_name("render.exr"), scene_path.with_name("stats.json")
+    cmd = [args.caustic, "render", str(scene_path), "-o", str(out), "--stats", str(stats),
+           "--no-progress", "--set", "integrator=path", "--set", f"spp={spp}",
+           "--set", f"seed={seed}", "--set", f"max_depth={args.max_depth}",
+           "--set", f"rr_depth={args.rr_depth}"]
+    for setting in settings:
+        cmd += ["--set", setting]
+    cpu0, t0 = cpu_seconds(resource.RUSAGE_CHILDREN), time.perf_counter()
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        sys.exit(f"caustic_cli: {shlex.join(cmd)} failed:\n{done.stderr}")
+    process = {"wall": time.perf_counter() - t0,
+               "cpu": cpu_seconds(resource.RUSAGE_CHILDREN) - cpu0}
+    return read_exr(out), json.loads(stats.read_text())["stats"], process
+
+
+def reference_key(renderer, version, scene, args, seed):
+    """A file name for a reference, from everything that determines it. Caustic's `version` is its
+    binary's hash: a rebuilt renderer renders its reference anew."""
+    key = json.dumps([renderer, version, scene, args.ref_spp, args.max_depth, args.rr_depth, seed],
+                     sort_keys=True)
+    return f"reference-{renderer}-{hashlib.sha256(key.encode()).hexdigest()[:16]}.npy"
+
+
+def binary_hash(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
