@@ -10,6 +10,8 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
 
 def cpu_seconds(who):
     """User + system CPU seconds of every thread of this process, or of its waited-for children:
@@ -48,3 +50,27 @@ def reference_key(renderer, version, scene, args, seed):
 
 def binary_hash(path):
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def reference(args, scene, scene_path, cache, read_exr, seed):
+    """Caustic's long reference (args.ref_spp, the scene's settings), cached by everything that
+    determines it; returns (image, how it was had, its noise's squared RMSE). The noise: Caustic's
+    squared error at s spp is about c / s, so one more render at ref_spp / 16 (seed + 1), whose
+    squared RMSE against the reference is c / s + c / ref_spp, gives c and the reference's
+    c / ref_spp. It is measured with the reference's settings, whatever the timed renders use."""
+    path = cache / reference_key("caustic", binary_hash(args.caustic), scene, args, seed)
+    noise_path = path.with_suffix(".noise2.json")
+    how = "cached"
+    if path.exists():
+        image = np.load(path)
+    else:
+        t0 = time.perf_counter()
+        image = render(args, scene_path, args.ref_spp, seed, (), read_exr)[0]
+        np.save(path, image)
+        how = f"rendered in {time.perf_counter() - t0:.0f} s"
+    if not noise_path.exists():
+        spp = max(1, args.ref_spp // 16)
+        probe = render(args, scene_path, spp, seed + 1, (), read_exr)[0]
+        c = float(np.mean((probe - image) ** 2)) / (1.0 / spp + 1.0 / args.ref_spp)
+        noise_path.write_text(json.dumps({"noise2": c / args.ref_spp, "probe_spp": spp}))
+    return image, how, json.loads(noise_path.read_text())["noise2"]

@@ -1,7 +1,8 @@
 """Time to equal error: Caustic against Mitsuba 3 on one scene (mitsuba_compare.py --ladder).
 
 Each renderer renders the scene once at every spp of the ladder (seed = the rung's index); each
-image's RMSE is taken against Caustic's long reference, less that reference's own noise. For every
+image's RMSE is taken against Caustic's long reference, less that reference's own noise
+(caustic_cli.reference). For every
 rung of Mitsuba's ladder, the time Caustic needs to reach Mitsuba's RMSE there is interpolated on
 Caustic's ladder, linearly in log(time) against log(RMSE) (error falls as a power of time, so
 that is a straight line between rungs); beyond Caustic's ladder the line of its last two rungs is
@@ -13,17 +14,17 @@ import os
 import shlex
 import sys
 
-import numpy as np
-
+import caustic_cli
 import mitsuba_compare as mc
-from ladder import print_table, reference_noise2
+from ladder import print_table, set_errors
 
 
 def measure(args, scene, scene_path, cache):
-    command = os.environ.get("MITSUBA_COMPARE_COMMAND") or shlex.join(sys.argv)
+    command = os.environ.get("COMPARE_COMMAND") or shlex.join(sys.argv)
     print(f"Machine: nproc {os.cpu_count()}, {mc.cpu_model()}, Mitsuba {mc.mi.__version__} "
           f"scalar_rgb. Command: `{command}`\n")
-    ref, how = mc.reference("caustic", scene, scene_path, cache, args)
+    ref, how, noise2 = caustic_cli.reference(args, scene, scene_path, cache, mc.read_exr,
+                                             mc.REFERENCE_SEED)
     load_before = os.getloadavg()[0]
     # Untimed warm-ups at the lowest rung (a setting such as spp_per_pass may need that many).
     mc.render_caustic(scene_path, min(args.ladder), 0, args, args.caustic_set)
@@ -35,13 +36,7 @@ def measure(args, scene, scene_path, cache):
                                 "time": stats["render_seconds"] + stats["setup_seconds"]})
         image, seconds = mc.render_mitsuba(scene, spp, seed, args)
         runs["mitsuba"].append({"spp": spp, "image": image, "time": seconds["render"]})
-    for rs in runs.values():
-        for r in rs:
-            r["raw2"] = float(np.mean((r["image"] - ref) ** 2))
-    noise2 = reference_noise2(runs["caustic"], args.ref_spp)
-    for rs in runs.values():
-        for r in rs:
-            r["rmse"] = math.sqrt(max(r["raw2"] - noise2, 0.0))
+    set_errors(runs, ref, noise2)
     report(args, runs, how, math.sqrt(noise2), (load_before, os.getloadavg()[0]))
 
 

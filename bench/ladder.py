@@ -4,15 +4,7 @@ is a dict with "spp", "time" (seconds) and "rmse" (against the reference, less i
 """
 import math
 
-
-def reference_noise2(runs, ref_spp):
-    """The squared RMSE the reference's own noise adds to every measured one: Caustic's squared
-    error is about c / spp, and its reference's noise is c / ref_spp; c is estimated from the
-    ladder's highest rung, whose error the reference's noise inflates the least."""
-    top = max(runs, key=lambda r: r["spp"])
-    # measured^2 = c / spp + c / ref_spp: solve for c.
-    c = top["raw2"] / (1.0 / top["spp"] + 1.0 / ref_spp)
-    return c / ref_spp
+import numpy as np
 
 
 def time_to(rmse, runs):
@@ -47,3 +39,12 @@ def print_table(caustic, other, name):
         goal = "met" if mean >= 5 else "NOT met"
         print(f"\n**{name} / Caustic time to equal RMSE: {mean:.2f}x** (geometric mean over the "
               f"rungs; goal at least 5x: {goal}).")
+
+
+def set_errors(runs, ref, noise2):
+    """Sets each run's "rmse" (runs maps a renderer's name to its ladder) against `ref`, less the
+    reference's noise, `noise2` (its squared RMSE; caustic_cli.reference)."""
+    for rs in runs.values():
+        for r in rs:
+            raw2 = float(np.mean((r["image"] - ref) ** 2))
+            r["rmse"] = math.sqrt(max(raw2 - noise2, 0.0))

@@ -175,15 +175,14 @@ def render_caustic(scene_path, spp, seed, args, settings=()):
 
 def reference(renderer, scene, scene_path, cache, args):
     """The high-spp reference of one renderer, cached by everything that determines it."""
-    version = caustic_cli.binary_hash(args.caustic) if renderer == "caustic" else mi.__version__
-    path = cache / caustic_cli.reference_key(renderer, version, scene, args, REFERENCE_SEED)
+    if renderer == "caustic":
+        return caustic_cli.reference(args, scene, scene_path, cache, read_exr, REFERENCE_SEED)[:2]
+    path = cache / caustic_cli.reference_key(renderer, mi.__version__, scene, args,
+                                             REFERENCE_SEED)
     if path.exists():
         return np.load(path), "cached"
     t0 = time.perf_counter()
-    if renderer == "caustic":
-        image = render_caustic(scene_path, args.ref_spp, REFERENCE_SEED, args)[0]
-    else:
-        image = render_mitsuba(scene, args.ref_spp, REFERENCE_SEED, args)[0]
+    image = render_mitsuba(scene, args.ref_spp, REFERENCE_SEED, args)[0]
     np.save(path, image)
     return image, f"rendered in {time.perf_counter() - t0:.0f} s"
 
@@ -217,7 +216,7 @@ def main():
 
 def measure(args, scene, scene_path, cache):
     # mitsuba_compare.sh passes the command it was run with; the venv's python is a detail.
-    command = os.environ.get("MITSUBA_COMPARE_COMMAND") or shlex.join(sys.argv)
+    command = os.environ.get("COMPARE_COMMAND") or shlex.join(sys.argv)
     print(f"Machine: nproc {os.cpu_count()}, {cpu_model()}, Mitsuba {mi.__version__} "
           f"scalar_rgb. Command: `{command}`\n")
     refs = {r: reference(r, scene, scene_path, cache, args)
