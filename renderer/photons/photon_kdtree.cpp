@@ -46,7 +46,8 @@ PhotonKdTree::PhotonKdTree(const std::vector<Vec3>& points)
 void PhotonKdTree::build(std::vector<Point>& points, uint32_t lo, uint32_t hi, uint32_t node) {
     if (isLeaf(lo, hi)) {
         const uint32_t n = hi - lo;
-        float* leaf = &coords_[3 * size_t(lo)];
+        // data() + offset, not &coords_[offset]: an empty map's array is empty.
+        float* leaf = coords_.data() + 3 * size_t(lo);
         for (uint32_t i = 0; i < n; ++i) {
             leaf[i] = points[lo + i].p.x;
             leaf[n + i] = points[lo + i].p.y;
@@ -122,7 +123,7 @@ void PhotonKdTree::search(const Vec3& p, float& bound2, Visit&& visit) const {
             if (far.min2 <= bound2) stack[top++] = far;
         }
         const uint32_t n = r.hi - r.lo;
-        const float* x = &coords_[3 * size_t(r.lo)];
+        const float* x = coords_.data() + 3 * size_t(r.lo);
         const float* y = x + n;
         const float* z = y + n;
         float d2[kLeafSize];
