@@ -12,6 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
+# The references' seed; the timed runs use 0, 1, ..., never this one.
+REFERENCE_SEED = 1_000_003
+
 
 def cpu_seconds(who):
     """User + system CPU seconds of every thread of this process, or of its waited-for children:
@@ -74,3 +77,10 @@ def reference(args, scene, scene_path, cache, read_exr, seed):
         c = float(np.mean((probe - image) ** 2)) / (1.0 / spp + 1.0 / args.ref_spp)
         noise_path.write_text(json.dumps({"noise2": c / args.ref_spp, "probe_spp": spp}))
     return image, how, json.loads(noise_path.read_text())["noise2"]
+
+
+def load_scene(path, size):
+    """The Caustic scene with its camera resized (the resolution lives only in the JSON)."""
+    scene = json.loads(Path(path).read_text())
+    scene["camera"]["width"] = scene["camera"]["height"] = size
+    return scene

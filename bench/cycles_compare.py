@@ -26,7 +26,7 @@ import caustic_cli
 from ladder import print_table, set_errors
 
 REPO = Path(__file__).resolve().parent.parent
-REFERENCE_SEED = 1_000_003
+REFERENCE_SEED = caustic_cli.REFERENCE_SEED
 
 
 def parse_args():
@@ -251,8 +251,7 @@ def main():
     args = parse_args()
     cache = Path(args.cache_dir)
     cache.mkdir(parents=True, exist_ok=True)
-    scene = json.loads(Path(args.scene).read_text())
-    scene["camera"]["width"] = scene["camera"]["height"] = args.size
+    scene = caustic_cli.load_scene(args.scene, args.size)
     command = os.environ.get("COMPARE_COMMAND") or shlex.join(sys.argv)
     print(f"Machine: nproc {os.cpu_count()}, Blender {bpy.app.version_string} Cycles CPU, "
           f"{args.threads} threads. Command: `{command}`\n")

@@ -26,7 +26,7 @@ import numpy as np  # noqa: E402
 
 mi.set_variant("scalar_rgb")
 REPO = Path(__file__).resolve().parent.parent
-REFERENCE_SEED = 1_000_003  # the timed runs use seeds 0 .. repeats-1, never this one
+REFERENCE_SEED = caustic_cli.REFERENCE_SEED
 
 
 def parse_args():
@@ -59,13 +59,6 @@ def parse_args():
     if args.cache_dir is None:
         args.cache_dir = str(Path(args.caustic).resolve().parent.parent / "mitsuba_compare")
     return args
-
-
-def load_scene(path, size):
-    """The Caustic scene with its camera resized (the resolution lives only in the JSON)."""
-    scene = json.loads(Path(path).read_text())
-    scene["camera"]["width"] = scene["camera"]["height"] = size
-    return scene
 
 
 def rgb(value):
@@ -202,7 +195,7 @@ def main():
     args = parse_args()
     cache = Path(args.cache_dir)
     cache.mkdir(parents=True, exist_ok=True)
-    scene = load_scene(args.scene, args.size)
+    scene = caustic_cli.load_scene(args.scene, args.size)
     # Caustic's scene copy and outputs live in a private folder: runs may overlap.
     with tempfile.TemporaryDirectory() as scratch:
         scene_path = Path(scratch) / "scene.json"
