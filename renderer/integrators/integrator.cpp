@@ -52,7 +52,8 @@ std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerat
     if (name == "raycast") return std::make_unique<RayCastIntegrator>(scene, accel);
     if (name == "whitted") return std::make_unique<WhittedIntegrator>(scene, accel, settings);
     if (name == "path")
-        return std::make_unique<PathIntegrator>(scene, accel, settings, settings.path);
+        return std::make_unique<PathIntegrator>(scene, accel, settings, settings.path,
+                                                settings.photon);
     if (name == "photon" || name == "ppm")
         return std::make_unique<PhotonIntegrator>(scene, accel, settings, settings.photon,
                                                   /*progressive=*/name == "ppm");

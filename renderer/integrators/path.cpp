@@ -4,6 +4,22 @@
 
 namespace caustic {
 
+PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel,
+                               const TraceSettings& trace, const Settings& settings,
+                               const PhotonIntegrator::Settings& photon)
+    : Integrator(scene, accel), maxDepth_(trace.maxDepth), settings_(settings) {
+    if (settings_.caustics == PathCaustics::PhotonMap)
+        caustics_ = std::make_unique<CausticPhotonMap>(scene, accel, trace, photon);
+}
+
+uint64_t PathIntegrator::beginPass(uint32_t pass) {
+    return caustics_ ? caustics_->beginPass(pass, interrupt_) : 0;
+}
+
+void PathIntegrator::checkMemory(size_t budgetBytes) const {
+    if (caustics_) caustics_->checkMemory(budgetBytes, interrupt_);
+}
+
 float PathIntegrator::emissionWeight(const LightSampleContext& from, float bsdfPdf,
                                      const SurfaceInteraction& at) const {
     // Without light sampling only the BSDF finds emitters.
@@ -25,6 +41,10 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
     bool specularBounce = true;
     float bsdfPdf = 0.0f;
     LightSampleContext from(cameraRay.o);
+    // With photon-mapped caustics: whether the path has passed a non-specular vertex. The map gave
+    // that vertex the light of every L S+ D path, so emission the path goes on to find through
+    // specular bounces alone is that light again, and is left out.
+    bool mappedCaustics = false;
 
     for (int depth = 0;; ++depth) {
         if (ctx.interrupted()) break;
@@ -40,7 +60,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
 
         if (m.isEmissive()) {
             Color Le = m.Le(wo, si.n);
-            if (!isBlack(Le)) {
+            if (!isBlack(Le) && !(specularBounce && mappedCaustics)) {
                 float w = specularBounce ? 1.0f : emissionWeight(from, bsdfPdf, si);
                 L += beta * Le * w;
             }
@@ -48,6 +68,13 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         if (depth >= maxDepth_) break;
 
         if (settings_.lightSampling) L += beta * sampleDirectLight(si, wo, m, ctx, settings_.mis);
+        if (caustics_ && !m.isSpecular()) {
+            // A photon that landed after j >= 1 bounces makes a path of depth + 1 + j scattering
+            // events, at most max_depth.
+            if (depth + 2 <= maxDepth_)
+                L += beta * caustics_->reflected(si, wo, m, maxDepth_ - depth - 1);
+            mappedCaustics = true;
+        }
 
         float uc = ctx.sampler.uniform();
         Vec2 u = ctx.sampler.uniform2();

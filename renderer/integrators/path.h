@@ -3,12 +3,21 @@
 // sampled by power and the BSDF is sampled to continue the path; emission found by either strategy
 // is weighted by the power heuristic. Russian roulette ends paths in proportion to their
 // throughput. With light sampling off it is the naive path tracer; with MIS off, light sampling
-// alone accounts for direct light at non-specular vertices (the seed's two variants).
+// alone accounts for direct light at non-specular vertices (the seed's two variants). With
+// photon-mapped caustics the L S+ D part of the light comes from a progressive caustic photon map
+// at every non-specular vertex instead (integrators/caustic_photon_map.h).
 #pragma once
 
+#include <memory>
+
+#include "integrators/caustic_photon_map.h"
 #include "integrators/integrator.h"
 
 namespace caustic {
+
+/// Where the path tracer takes caustics (light reaching a non-specular vertex through specular
+/// bounces only) from.
+enum class PathCaustics { Paths, PhotonMap };
 
 class PathIntegrator final : public Integrator {
 public:
@@ -18,12 +27,17 @@ public:
         int rrDepth = 3;            ///< Bounces before Russian roulette may end a path.
         bool lightSampling = true;  ///< Next-event estimation at non-specular vertices.
         bool mis = true;            ///< Power-heuristic weights for light and BSDF samples.
+        PathCaustics caustics = PathCaustics::Paths;
     };
 
+    /// `photon` is read only with PathCaustics::PhotonMap (see CausticPhotonMap).
     PathIntegrator(const Scene& scene, const Accelerator& accel, const TraceSettings& trace,
-                   const Settings& settings)
-        : Integrator(scene, accel), maxDepth_(trace.maxDepth), settings_(settings) {}
+                   const Settings& settings, const PhotonIntegrator::Settings& photon);
+
+    uint64_t beginPass(uint32_t pass) override;
     Color Li(const Ray& ray, SampleContext& ctx) const override;
+    size_t memoryBytes() const override { return caustics_ ? caustics_->memoryBytes() : 0; }
+    void checkMemory(size_t budgetBytes) const override;
 
 private:
     /// The weight of emission Le found by a BSDF-sampled ray from `from` (density bsdfPdf) that
@@ -33,6 +47,7 @@ private:
 
     int maxDepth_;
     Settings settings_;
+    std::unique_ptr<CausticPhotonMap> caustics_;  // null when caustics are path traced
 };
 
 }  // namespace caustic

@@ -28,15 +28,17 @@ PhotonIntegrator::PhotonIntegrator(const Scene& scene, const Accelerator& accel,
         estimate_.radius = 0.002f * glm::length(accel.bounds().hi - accel.bounds().lo);
 }
 
-PhotonTracingOptions PhotonIntegrator::tracingOptions(uint32_t pass, bool causticOnly) const {
+PhotonTracingOptions PhotonIntegrator::tracingOptions(const TraceSettings& trace, uint64_t photons,
+                                                      uint32_t pass, bool causticOnly,
+                                                      const Interrupt* interrupt) {
     PhotonTracingOptions o;
-    o.photons = causticOnly ? settings_.causticPhotons : settings_.photons;
-    o.maxDepth = trace_.maxDepth;
-    o.seed = trace_.seed;
+    o.photons = photons;
+    o.maxDepth = trace.maxDepth;
+    o.seed = trace.seed;
     o.pass = pass;
-    o.threads = trace_.threads;
+    o.threads = trace.threads;
     o.causticOnly = causticOnly;
-    o.interrupt = interrupt_;
+    o.interrupt = interrupt;
     return o;
 }
 
@@ -98,14 +100,18 @@ size_t PhotonIntegrator::peakBytes(double storedPhotons) {
 }
 
 void PhotonIntegrator::checkMemory(size_t budgetBytes) const {
-    size_t need = estimatedPeakBytes();
-    if (need <= budgetBytes) return;
-    auto mib = [](size_t b) { return std::to_string((b + (1u << 20) - 1) >> 20) + " MiB"; };
     bool caustics = settings_.causticPhotons > settings_.photons;
-    throw InputError(caustics ? "/settings/caustic_photons" : "/settings/photons",
-                     "the photon maps of a pass would need about " + mib(need) +
-                         " (estimated from a pilot tracing), more than the " + mib(budgetBytes) +
-                         " the memory limit leaves; lower it or raise memory_limit");
+    checkPeak(estimatedPeakBytes(), budgetBytes,
+              caustics ? "/settings/caustic_photons" : "/settings/photons");
+}
+
+void PhotonIntegrator::checkPeak(size_t needBytes, size_t budgetBytes, const char* setting) {
+    if (needBytes <= budgetBytes) return;
+    auto mib = [](size_t b) { return std::to_string((b + (1u << 20) - 1) >> 20) + " MiB"; };
+    throw InputError(setting, "the photon maps of a pass would need about " + mib(needBytes) +
+                                  " (estimated from a pilot tracing), more than the " +
+                                  mib(budgetBytes) + " the memory limit leaves; lower it or " +
+                                  "raise memory_limit");
 }
 
 size_t PhotonIntegrator::memoryBytes() const {

@@ -56,9 +56,20 @@ public:
     static constexpr uint64_t kPilotPaths = 8192;
     /// Peak bytes of one pass that stores `storedPhotons` photons (global and caustic maps).
     static size_t peakBytes(double storedPhotons);
+    /// Throws InputError at `setting` when `needBytes` of photon maps exceed `budgetBytes`.
+    static void checkPeak(size_t needBytes, size_t budgetBytes, const char* setting);
+
+    /// The photon tracing of pass `pass`: `photons` paths, max_depth, seed and threads from
+    /// `trace`.
+    static PhotonTracingOptions tracingOptions(const TraceSettings& trace, uint64_t photons,
+                                               uint32_t pass, bool causticOnly,
+                                               const Interrupt* interrupt);
 
 private:
-    PhotonTracingOptions tracingOptions(uint32_t pass, bool causticOnly) const;
+    PhotonTracingOptions tracingOptions(uint32_t pass, bool causticOnly) const {
+        return tracingOptions(trace_, causticOnly ? settings_.causticPhotons : settings_.photons,
+                              pass, causticOnly, interrupt_);
+    }
     /// Follows specular lobes from `ray` (one sampled lobe per hit) to the first non-specular hit;
     /// nullopt when the path escapes (`escaped`) or ends. `beta` accumulates the specular weights;
     /// `ray` becomes the ray that reached the hit.

@@ -55,7 +55,7 @@ Color PhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo, const M
     Color L(0.0f);
     for (const Neighbor& n : scratch) {
         const Photon& p = photons_[n.id];
-        if (!(mask & maskOf(p.path))) continue;
+        if (!(mask & maskOf(p.path)) || p.bounces > estimate.maxBounces) continue;
         // f is zero for a photon from the other side of a thin surface: it lights only its side.
         L += m.f(wo, p.wi, si.n) * p.power * kernel(estimate.kernel, n.dist2, r2);
     }

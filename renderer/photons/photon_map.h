@@ -20,6 +20,9 @@ struct PhotonEstimate {
     int k = 50;           ///< Photons per estimate, when radius is 0.
     float radius = 0.0f;  ///< Fixed search radius; 0 uses the k nearest.
     PhotonKernel kernel = PhotonKernel::Cone;
+    /// Photons that landed after more scattering events are left out (Photon::bounces), so that
+    /// a camera path and the photon paths it looks up stay within max_depth together.
+    int maxBounces = 255;
 };
 
 /// Which photon paths an estimate counts (a bit per PhotonPath).

@@ -48,12 +48,12 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
             PhotonPath path = bounces == 0   ? PhotonPath::Direct
                               : specularOnly ? PhotonPath::Caustic
                                              : PhotonPath::Indirect;
+            const Photon photon{si.p, wo, beta, path, uint8_t(std::min(bounces, 255))};
             if (options.causticOnly) {
-                if (path == PhotonPath::Caustic)
-                    out.photons.push_back(Photon{si.p, wo, beta, path});
+                if (path == PhotonPath::Caustic) out.photons.push_back(photon);
                 return;
             }
-            out.photons.push_back(Photon{si.p, wo, beta, path});
+            out.photons.push_back(photon);
         }
         float uc = rng.uniform();
         Vec2 u = rng.uniform2();

@@ -22,6 +22,9 @@ struct Photon {
     Vec3 wi;      ///< Unit direction it came from (pointing away from the surface).
     Color power;  ///< Flux it carries, in watts per channel.
     PhotonPath path;
+    /// Scattering events before it landed (0: straight from the light), saturating at 255: a
+    /// camera path that looks it up must not make the whole path longer than max_depth.
+    uint8_t bounces;
 };
 
 struct PhotonTracingOptions {

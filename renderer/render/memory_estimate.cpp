@@ -28,12 +28,22 @@ size_t mib(size_t bytes) {
 
 // The settings the photon budget depends on.
 struct PhotonBudget {
-    uint64_t photons = 0, causticPhotons = 0;
+    uint64_t photons = 0, causticPhotons = 0;  // global and caustic-only paths a pass
     int maxDepth = 0;
+    const char* setting = "";  // what a refusal names
 };
 
+// Zero paths when the integrator keeps no photon map.
 PhotonBudget photonBudget(const RenderSettings& s) {
-    return {s.photon.photons, s.photon.causticPhotons, s.maxDepth};
+    if (s.integrator == "path") {
+        // Its caustic map: `photons` caustic-only paths, and no global map.
+        if (s.path.caustics == PathCaustics::Paths) return {};
+        return {0, s.photon.photons, s.maxDepth, "/settings/photons"};
+    }
+    if (s.integrator != "photon" && s.integrator != "ppm") return {};
+    const bool caustics = s.photon.causticPhotons > s.photon.photons;
+    return {s.photon.photons, s.photon.causticPhotons, s.maxDepth,
+            caustics ? "/settings/caustic_photons" : "/settings/photons"};
 }
 
 struct Counts {
@@ -91,9 +101,8 @@ bool hasSpecular(const Scene& scene) {
 }
 
 size_t photonPeakBytes(const Scene& scene, const RenderSettings& settings, const Counts& c) {
-    if (settings.integrator != "photon" && settings.integrator != "ppm") return 0;
-    if (!c.emits) return 0;
     const PhotonBudget budget = photonBudget(settings);
+    if ((budget.photons == 0 && budget.causticPhotons == 0) || !c.emits) return 0;
     const double perPath = storedPhotonsPerPathBound(scene, budget.maxDepth);
     // A path stores at most one caustic photon: the first non-specular hit after specular ones
     // only (photons/photon_tracer.cpp). Without specular materials there is none.
@@ -148,11 +157,10 @@ void checkMemoryEstimate(const Scene& scene, const RenderSettings& settings) {
     const size_t left = limit - e.beforePasses();
     if (e.photonMaps <= left) return;
     const PhotonBudget budget = photonBudget(settings);
-    const bool caustics = budget.causticPhotons > budget.photons;
     char perPath[32];
     std::snprintf(perPath, sizeof perPath, "%.1f",
                   storedPhotonsPerPathBound(scene, budget.maxDepth));
-    throw InputError(caustics ? "/settings/caustic_photons" : "/settings/photons",
+    throw InputError(budget.setting,
                      "the photon maps of a pass could need about " +
                          std::to_string(mib(e.photonMaps)) + " MiB (estimated from counts: up to " +
                          perPath +

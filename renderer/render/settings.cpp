@@ -25,6 +25,8 @@ Json settingsSchemaJson() {
         if (!s.choices.empty()) j["enum"] = s.choices;
         if (!s.unit.empty()) j["unit"] = s.unit;
         j["integrators"] = s.integrators;
+        // Read by path only beside caustics = photon_map (RenderSettings::reads).
+        if (s.causticMap) j["only_with"] = {{"path", {{"caustics", "photon_map"}}}};
         if (s.name == "preset") {
             // What each preset sets, for the API's users and the page's preset menu.
             Json sets = Json::object();
@@ -148,8 +150,13 @@ size_t RenderSettings::memoryLimitBytes() const {
 Json RenderSettings::toJson() const {
     Json out = Json::object();
     for (const SettingSpec& spec : settingSpecs())
-        if (spec.readBy(integrator)) out[spec.name] = spec.field.get(*this, spec.choices);
+        if (reads(spec)) out[spec.name] = spec.field.get(*this, spec.choices);
     return out;
+}
+
+bool RenderSettings::reads(const SettingSpec& spec) const {
+    if (!spec.readBy(integrator)) return false;
+    return !(spec.causticMap && integrator == "path" && path.caustics == PathCaustics::Paths);
 }
 
 Json parseSettingValue(const std::string& text) {

@@ -19,6 +19,8 @@ namespace caustic {
 
 using Json = nlohmann::json;
 
+struct SettingSpec;
+
 /// The validated settings of one render: the general ones (TraceSettings holds maxDepth, seed and
 /// threads, which integrators read too), then each integrator's own Settings.
 struct RenderSettings : TraceSettings {
@@ -44,6 +46,8 @@ struct RenderSettings : TraceSettings {
     /// The general settings and those `integrator` reads, by JSON name; parseSettings takes it
     /// back.
     Json toJson() const;
+    /// Whether these settings' integrator reads the setting.
+    bool reads(const SettingSpec& spec) const;
 };
 
 enum class SettingType { Integer, Number, Boolean, String };
@@ -71,6 +75,8 @@ struct SettingSpec {
     std::vector<std::string> choices{};  ///< Valid values for strings.
     std::string unit{};
     std::vector<std::string> integrators{};  ///< Integrators that read it; empty for all.
+    /// A photon mapper's setting that path reads only for its caustic map (caustics = photon_map).
+    bool causticMap = false;
     std::string description{};
 
     /// Whether `integrator` (a name) reads it.
@@ -80,7 +86,9 @@ struct SettingSpec {
 /// Every setting, in documentation order.
 const std::vector<SettingSpec>& settingSpecs();
 /// The table as JSON: {name: {type, default, minimum, maximum, enum, unit, description,
-/// integrators}}, for the API and the web page.
+/// integrators, only_with}}, for the API and the web page. only_with, when present, maps an
+/// integrator to the settings it must have for it to read this one: {"path": {"caustics":
+/// "photon_map"}} on the photon settings that path's caustic map reads.
 Json settingsSchemaJson();
 
 /// Overlays `overrides` on `defaults` (both objects of settings), key by key, with the preset that

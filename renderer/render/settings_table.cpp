@@ -82,6 +82,8 @@ std::vector<SettingSpec> rows() {
     using Photon = PhotonIntegrator::Settings;
     const std::vector<std::string> tracers = {"whitted", "path", "photon", "ppm"};
     const std::vector<std::string> photonMappers = {"photon", "ppm"};
+    // What path reads too, with caustics = photon_map.
+    const std::vector<std::string> causticMappers = {"path", "photon", "ppm"};
     return {
         {.name = "preset",
          .field = field(&R::preset),
@@ -146,14 +148,27 @@ std::vector<SettingSpec> rows() {
          .description = "Weight light and BSDF samples by the power heuristic. Off (with "
                         "light_sampling on): direct light at non-specular vertices comes from "
                         "light samples only."},
+        {.name = "caustics",
+         .field = field(&R::path, &Path::caustics),
+         .choices = {"paths", "photon_map"},  // PathCaustics' order
+         .integrators = {"path"},
+         .description = "Where caustics (light reaching a diffuse surface through mirrors and "
+                        "glass only) come from. paths: path tracing alone (unbiased; a small "
+                        "light seen through glass makes fireflies). photon_map: a caustic photon "
+                        "map of `photons` paths a pass, read at every diffuse vertex with ppm's "
+                        "shrinking radius (`radius`, `alpha`, `kernel`): consistent as ppm is, "
+                        "with a bias that falls pass by pass and that the error estimate "
+                        "excludes; point lights' caustics appear too."},
         {.name = "photons",
          .field = field(&R::photon, &Photon::photons),
          .min = 1,
          .max = 1e9,
          .unit = "photon paths/pass",
-         .integrators = photonMappers,
+         .integrators = causticMappers,
+         .causticMap = true,
          .description = "Photon paths traced from the lights in each pass (each stored photon "
-                        "takes 56 bytes)."},
+                        "takes 56 bytes); path (caustics = photon_map): the caustic map's paths, "
+                        "each ending at its first diffuse hit."},
         {.name = "caustic_photons",
          .field = field(&R::photon, &Photon::causticPhotons),
          .min = 0,
@@ -166,7 +181,8 @@ std::vector<SettingSpec> rows() {
         {.name = "photon_lookup",
          .field = field(&R::photon, &Photon::lookup),
          .choices = {"kdtree", "brute_force"},  // PhotonLookup's order
-         .integrators = photonMappers,
+         .integrators = causticMappers,
+         .causticMap = true,
          .description = "Photon search structure: the kd-tree, or every photon for every look-up "
                         "(a baseline for benchmarks; the image is the same)."},
         {.name = "k",
@@ -181,14 +197,16 @@ std::vector<SettingSpec> rows() {
          .min = 0,
          .max = 1e30,
          .unit = "scene units",
-         .integrators = photonMappers,
+         .integrators = causticMappers,
+         .causticMap = true,
          .description = "photon: fixed density-estimation radius, 0 for the k nearest photons "
-                        "instead; ppm: the first pass's radius, 0 for 1/500 of the scene's "
-                        "diagonal."},
+                        "instead; ppm and path's photon_map caustics: the first pass's radius, 0 "
+                        "for 1/500 of the scene's diagonal."},
         {.name = "kernel",
          .field = field(&R::photon, &Photon::kernel),
          .choices = {"box", "cone", "simpson"},  // PhotonKernel's order
-         .integrators = photonMappers,
+         .integrators = causticMappers,
+         .causticMap = true,
          .description = "Density-estimation kernel: box (uniform), cone (1 - d/r) or simpson "
                         "((1 - d^2/r^2)^2), each normalized over its disk."},
         {.name = "final_gather",
@@ -203,8 +221,10 @@ std::vector<SettingSpec> rows() {
          .field = field(&R::photon, &Photon::alpha),
          .min = 0.01,
          .max = 1,
-         .integrators = {"ppm"},
-         .description = "Progressive photon mapping: pass i's squared radius is the previous one "
+         .integrators = {"path", "ppm"},
+         .causticMap = true,
+         .description = "Progressive photon mapping (ppm, and path's photon_map caustics): pass "
+                        "i's squared radius is the previous one "
                         "times (i - 1 + alpha) / i (Knaus & Zwicker 2011); smaller alpha shrinks "
                         "it faster."},
         {.name = "sampler",

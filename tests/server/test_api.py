@@ -150,7 +150,8 @@ def test_submit_example_scene_by_name(server):
     settings = server.get("/api/settings").json()
     assert job["settings"]["integrator"] == "path"
     assert set(job["settings"]) == {name for name, s in settings.items()
-                                    if not s["integrators"] or "path" in s["integrators"]}
+                                    if (not s["integrators"] or "path" in s["integrators"])
+                                    and "path" not in s.get("only_with", {})}
     assert "rr_depth" in job["settings"] and "photons" not in job["settings"]
     assert job["settings"]["spp"] == 1
     assert job["settings"]["time_limit"] == 3600

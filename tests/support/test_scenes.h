@@ -3,10 +3,13 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "integrators/integrator.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -34,6 +37,33 @@ inline nlohmann::json exampleScene(const std::string& name, int width = 0, int h
 /// Settings from JSON over the defaults, with the scene's own settings ignored.
 inline RenderSettings settingsFrom(const nlohmann::json& j) {
     return parseSettings(j);
+}
+
+/// Root-mean-square difference of two images (flat arrays of one size).
+inline double rmse(const std::vector<float>& a, const std::vector<float>& b) {
+    double sum = 0;
+    for (size_t i = 0; i < a.size(); ++i) sum += double(a[i] - b[i]) * double(a[i] - b[i]);
+    return std::sqrt(sum / double(a.size()));
+}
+
+/// Root-mean-square value of an image.
+inline double rms(const std::vector<float>& a) {
+    return rmse(a, std::vector<float>(a.size(), 0.0f));
+}
+
+/// Every integrator's name, and "path_photon_caustics": path with caustics from a photon map.
+/// Tests that must hold for every estimator of the image loop over these.
+inline std::vector<std::string> integratorVariants() {
+    std::vector<std::string> names = integratorNames();
+    names.push_back("path_photon_caustics");
+    return names;
+}
+
+/// The settings that select an integratorVariants() entry.
+inline nlohmann::json integratorVariant(const std::string& variant) {
+    if (variant == "path_photon_caustics")
+        return {{"integrator", "path"}, {"caustics", "photon_map"}};
+    return {{"integrator", variant}};
 }
 
 /// "pixel (x, y) channel c: mean +- se", for failure messages.

@@ -57,7 +57,11 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
     assert.deepEqual(fields.map(f => f.name).sort(), Object.keys(schema).sort(), 'one field per setting');
     for (const f of fields) {
       const spec = schema[f.name];
-      const used = spec.integrators.length === 0 || spec.integrators.includes(integrator);
+      // With every setting at its default: path's caustics are path traced, so its photon
+      // settings (only_with caustics = photon_map) stay hidden.
+      const needs = Object.entries((spec.only_with || {})[integrator] || {});
+      const used = (spec.integrators.length === 0 || spec.integrators.includes(integrator)) &&
+        needs.every(([name, value]) => schema[name].default === value);
       assert.equal(f.shown, used, `${integrator}: ${f.name} shown`);
       assert.equal(f.disabled, !used, `${integrator}: ${f.name} disabled when hidden`);
       assert.ok(f.label, `${f.name} has a label`);
@@ -83,6 +87,16 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
   await page.selectOption('#s-integrator', 'photon');
   await page.$eval('[data-group=options]', el => el.scrollIntoView());
   await shot(page, 'settings-photon');
+  // Path shows its caustic map's settings once its caustics come from a photon map.
+  const shown = sel => page.$eval(sel, el => !el.closest('[hidden]') && !el.disabled);
+  await page.selectOption('#s-integrator', 'path');
+  assert.equal(await shown('#s-photons'), false, 'path tracing alone reads no photons');
+  await page.selectOption('#s-caustics', 'photon_map');
+  for (const name of ['photons', 'radius', 'alpha', 'kernel', 'photon_lookup'])
+    assert.equal(await shown(`#s-${name}`), true, `${name} with photon_map caustics`);
+  assert.equal(await shown('#s-caustic_photons'), false, 'caustic_photons is not path\'s');
+  await page.selectOption('#s-caustics', 'paths');
+  assert.equal(await shown('#s-photons'), false, 'hidden again with paths');
   await close();
 });
 
@@ -296,7 +310,9 @@ test('validation errors are shown where their pointer says', async () => {
   assert.equal(status, 422);
   assert.equal(body.pointer, '/settings/spp');
   const sent = JSON.parse(request.postData()).settings;
-  const shown = Object.keys(schema).filter(n => schema[n].integrators.length === 0 || schema[n].integrators.includes('path'));
+  // Path's caustics are path traced by default: its caustic map's settings (only_with) stay out.
+  const shown = Object.keys(schema).filter(n => (schema[n].integrators.length === 0 ||
+    schema[n].integrators.includes('path')) && !(schema[n].only_with || {}).path);
   assert.deepEqual(Object.keys(sent).sort(), shown.sort(), 'only the shown settings are sent');
   await page.waitForSelector('#s-spp-error:not(:empty)');
   assert.match(await page.textContent('#s-spp-error'), new RegExp(`at most ${MAX_SPP}`));

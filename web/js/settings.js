@@ -1,6 +1,7 @@
 // The render settings form, generated from GET /api/settings: the preset first (choosing one fills
 // in what it sets, from the API's `presets`; the fields stay editable), the integrator, then only
-// the options it reads (a setting's `integrators`; empty = every integrator), the stopping rule, the
+// the options it reads (a setting's `integrators`, empty = every integrator, and its `only_with`:
+// path shows its caustic map's settings only with caustics = photon_map), the stopping rule, the
 // accelerator, and the rest. Number inputs carry the API's minimum, maximum and step, enums are
 // selects, booleans checkboxes, and every field starts at the API's default.
 import {h} from './format.js';
@@ -8,7 +9,7 @@ import {h} from './format.js';
 // Where a setting goes; a setting the API adds later lands in "More settings" (or, when only some
 // integrators read it, in the integrator's options), so the form always shows all of them.
 const STOP = ['spp', 'time_limit', 'target_error', 'spp_per_pass'];
-const ORDER = ['max_depth', 'rr_depth', 'light_sampling', 'mis', 'photons', 'caustic_photons', 'k',
+const ORDER = ['max_depth', 'rr_depth', 'light_sampling', 'mis', 'caustics', 'photons', 'caustic_photons', 'k',
   'radius', 'kernel', 'alpha', 'final_gather', 'photon_lookup'];
 
 const byOrder = list => (a, b) => {
@@ -18,7 +19,7 @@ const byOrder = list => (a, b) => {
 
 export class SettingsForm {
   /** @param schema GET /api/settings: {name: {type, default, minimum, maximum, enum, unit,
-   *  description, integrators}} */
+   *  description, integrators, only_with}} */
   constructor(container, schema) {
     this.schema = schema;
     this.container = container;
@@ -42,6 +43,11 @@ export class SettingsForm {
       this.group('Accelerator', accel),
       this.more(rest));
     this.fields.get('integrator').input.addEventListener('change', () => this.showIntegrator());
+    // A setting that others are read only beside (only_with) shows or hides them too.
+    const conditions = new Set(Object.values(schema).flatMap(s =>
+      Object.values(s.only_with || {}).flatMap(Object.keys)));
+    for (const name of conditions)
+      this.fields.get(name)?.input.addEventListener('change', () => this.showIntegrator());
     this.fields.get('preset')?.input.addEventListener('change', () => this.applyPreset());
     this.showIntegrator();
   }
@@ -102,7 +108,10 @@ export class SettingsForm {
   showIntegrator() {
     const integrator = this.integrator;
     for (const [, f] of this.fields) {
-      const used = f.spec.integrators.length === 0 || f.spec.integrators.includes(integrator);
+      // only_with: what else the integrator needs to read it (path's photon_map caustics).
+      const needs = Object.entries((f.spec.only_with || {})[integrator] || {});
+      const used = (f.spec.integrators.length === 0 || f.spec.integrators.includes(integrator)) &&
+        needs.every(([name, value]) => this.fields.get(name)?.input.value === value);
       f.wrap.hidden = !used;
       f.input.disabled = !used;
     }

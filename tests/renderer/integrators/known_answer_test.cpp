@@ -13,6 +13,7 @@ namespace {
 
 using nlohmann::json;
 using testing::emissiveWallScene;
+using testing::exampleScene;
 using testing::mergePatched;
 using testing::pointLightOverPlane;
 using testing::sceneFromJson;
@@ -50,16 +51,19 @@ TEST(Dielectric, SphereOfIorOneLeavesTheImageUnchanged) {
 
 TEST(Determinism, SameImageWithOneAndTwoThreads) {
     auto scene = sceneFromJson(testing::exampleScene("cornell-spheres", 64, 48));
-    for (const std::string& integrator : integratorNames()) {
+    for (const std::string& integrator : testing::integratorVariants()) {
         for (const std::string sampler : {"independent", "sobol", "adaptive"}) {
             SCOPED_TRACE(sampler);
             // Few photons: photon tracing runs in parallel too, and must not depend on it either.
             // Adaptive sampling: 2 passes after its pilot of 8.
             const bool adaptive = sampler == "adaptive";
-            json base{{"integrator", integrator}, {"spp", adaptive ? 40 : 8},
-                      {"spp_per_pass", 4},        {"seed", 17},
-                      {"photons", 20000},         {"sampler", adaptive ? "sobol" : sampler},
-                      {"adaptive", adaptive}};
+            json base = mergePatched(testing::integratorVariant(integrator),
+                                     {{"spp", adaptive ? 40 : 8},
+                                      {"spp_per_pass", 4},
+                                      {"seed", 17},
+                                      {"photons", 20000},
+                                      {"sampler", adaptive ? "sobol" : sampler},
+                                      {"adaptive", adaptive}});
             RenderResult one = render(*scene, settingsFrom(mergePatched(base, {{"threads", 1}})));
             RenderResult two = render(*scene, settingsFrom(mergePatched(base, {{"threads", 2}})));
             std::vector<float> a = one.film->meanRgb(), b = two.film->meanRgb();
@@ -72,6 +76,21 @@ TEST(Determinism, SameImageWithOneAndTwoThreads) {
             EXPECT_NE(std::memcmp(a.data(), c.data(), a.size() * sizeof(float)), 0) << integrator;
         }
     }
+}
+
+TEST(PhotonCaustics, DirectLightOnlyIsThePathTracedImageBitForBit) {
+    // With max_depth 1 no caustic fits in a path (a photon needs a bounce before the lookup's
+    // vertex), and the camera paths draw the same random numbers: the same image, bit for bit.
+    auto scene = sceneFromJson(exampleScene("cornell-spheres", 24, 16));
+    const json base{{"max_depth", 1}, {"spp", 8}, {"spp_per_pass", 4}, {"photons", 2000}};
+    std::vector<float> a = render(*scene, settingsFrom(base)).film->meanRgb();
+    RenderResult mapped =
+        render(*scene, settingsFrom(mergePatched(base, {{"caustics", "photon_map"}})));
+    std::vector<float> b = mapped.film->meanRgb();
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
+    // The photons were traced all the same (the map would have been read with max_depth 2).
+    EXPECT_GT(mapped.stats.rays, render(*scene, settingsFrom(base)).stats.rays);
 }
 
 }  // namespace

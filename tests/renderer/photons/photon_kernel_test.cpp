@@ -45,7 +45,7 @@ TEST(PhotonEstimate, OnePhotonTracesTheKernelProfile) {
                                        Vec3(0, 0, -0.25f), Vec3(-0.375f, 0, 0),
                                        Vec3(0, 0, 0.5f),   Vec3(0.5001f, 0, 0)};
     for (const Vec3& o : offsets) {
-        PhotonMap map({Photon{o, kUp, power, PhotonPath::Direct}});
+        PhotonMap map({Photon{o, kUp, power, PhotonPath::Direct, 0}});
         double d = glm::length(DVec3(o));
         for (int k = 0; k < 3; ++k) {
             Color L = map.reflected(si, kUp, plane, PhotonEstimate{1, r, kKernels[k]},
@@ -90,8 +90,8 @@ TEST(PhotonEstimate, UniformFieldGivesTheIrradianceForEveryKernel) {
     Rng rng(12345);
     for (Photon& p : photons) {
         Vec2 u = rng.uniform2();
-        p = Photon{Vec3(2.0f * u.x - 1.0f, 0.0f, 2.0f * u.y - 1.0f), kUp, power,
-                   PhotonPath::Direct};
+        p = Photon{Vec3(2.0f * u.x - 1.0f, 0.0f, 2.0f * u.y - 1.0f), kUp, power, PhotonPath::Direct,
+                   0};
     }
     PhotonMap map(std::move(photons));
     Diffuse plane(kAlbedo, Color(0.0f));

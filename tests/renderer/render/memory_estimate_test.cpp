@@ -153,6 +153,12 @@ TEST(MemoryEstimate, RefusalNamesTheSettingAtFault) {
     // Path tracing keeps no photons, whatever `photons` says.
     EXPECT_EQ(refusal({{"integrator", "path"}, {"photons", 10000000}, {"memory_limit", 1}}),
               "admitted");
+    // Unless its caustics come from a photon map of that many paths a pass.
+    EXPECT_EQ(refusal({{"integrator", "path"},
+                       {"caustics", "photon_map"},
+                       {"photons", 100000000},
+                       {"memory_limit", 4096}}),
+              "/settings/photons");
     json big = exampleScene("bunny", 4096, 4096);
     try {
         checkMemoryEstimate(*countedScene(big), settingsFrom({{"memory_limit", 100}}));

@@ -58,14 +58,14 @@ protected:
         // Four samples per pass, so that the sobol sampler's points within a pass are a set, and
         // adaptive sampling (sobol, samples by the pilot's 8 passes: a range after them renders
         // the pilot again) has samples to move.
-        json_ = {{"integrator", integrator},
-                 {"spp", 4 * kPasses},
-                 {"spp_per_pass", 4},
-                 {"photons", 3000},
-                 {"seed", 7},
-                 {"threads", 2},
-                 {"sampler", sampler == "independent" ? "independent" : "sobol"},
-                 {"adaptive", sampler == "adaptive"}};
+        json_ = testing::integratorVariant(integrator);
+        json_.merge_patch({{"spp", 4 * kPasses},
+                           {"spp_per_pass", 4},
+                           {"photons", 3000},
+                           {"seed", 7},
+                           {"threads", 2},
+                           {"sampler", sampler == "independent" ? "independent" : "sobol"},
+                           {"adaptive", sampler == "adaptive"}});
     }
     RenderSettings settings(double targetError) const {
         nlohmann::json j = json_;
@@ -157,7 +157,7 @@ TEST_P(PassRanges, TargetErrorStopsAtTheSamePassWhateverTheSplit) {
 
 INSTANTIATE_TEST_SUITE_P(
     IntegratorsAndSamplers, PassRanges,
-    ::testing::Combine(::testing::ValuesIn(integratorNames()),
+    ::testing::Combine(::testing::ValuesIn(testing::integratorVariants()),
                        ::testing::Values("independent", "sobol", "adaptive")),
     [](const ::testing::TestParamInfo<std::tuple<std::string, std::string>>& p) {
         return std::get<0>(p.param) + "_" + std::get<1>(p.param);

@@ -22,10 +22,12 @@ const SettingSpec& spec(const std::string& name) {
 }
 
 // The names of the settings integrator `name` reads.
-std::set<std::string> readBy(const std::string& name) {
+// What `name` reads; for path, the photon settings only with photon-mapped caustics.
+std::set<std::string> readBy(const std::string& name, bool photonCaustics = false) {
     std::set<std::string> names;
     for (const SettingSpec& s : settingSpecs())
-        if (s.readBy(name)) names.insert(s.name);
+        if (s.readBy(name) && !(name == "path" && s.causticMap && !photonCaustics))
+            names.insert(s.name);
     return names;
 }
 
@@ -106,7 +108,7 @@ TEST(SettingsTable, EveryDefaultIsOfItsTypeAndInItsRange) {
     EXPECT_EQ(schema["spp"]["maximum"], 1e6);
     EXPECT_EQ(schema["integrator"]["enum"], Json(integratorNames()));
     EXPECT_EQ(schema["kernel"]["default"], "cone");
-    EXPECT_EQ(schema["alpha"]["integrators"], Json::array({"ppm"}));
+    EXPECT_EQ(schema["alpha"]["integrators"], Json::array({"path", "ppm"}));
 }
 
 TEST(SettingsTable, DefaultsAreTheFieldsOfADefaultRenderSettings) {
@@ -153,6 +155,7 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
                      {"rr_depth", 7},
                      {"light_sampling", false},
                      {"mis", false},
+                     {"caustics", "photon_map"},
                      {"photons", 12345},
                      {"caustic_photons", 678},
                      {"photon_lookup", "brute_force"},
@@ -178,6 +181,7 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
     EXPECT_EQ(s.path.rrDepth, 7);
     EXPECT_FALSE(s.path.lightSampling);
     EXPECT_FALSE(s.path.mis);
+    EXPECT_EQ(s.path.caustics, PathCaustics::PhotonMap);
     EXPECT_EQ(s.photon.photons, 12345u);
     EXPECT_EQ(s.photon.causticPhotons, 678u);
     EXPECT_EQ(s.photon.lookup, PhotonLookup::BruteForce);
@@ -201,7 +205,7 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
         Json expected = asked;
         expected["integrator"] = name;
         for (const SettingSpec& row : settingSpecs())
-            if (!row.readBy(name)) expected.erase(row.name);
+            if (!s.reads(row)) expected.erase(row.name);
         EXPECT_EQ(s.toJson(), expected) << name;
     }
     // light_sampling and mis apart (both off above).
@@ -225,13 +229,24 @@ TEST(SettingsJson, EachIntegratorListsTheGeneralSettingsAndWhatItReads) {
 }
 
 TEST(SettingsJson, APathJobListsNoPhotonSetting) {
-    Json j = parseSettings(nonDefaultJson("path")).toJson();
+    Json asked = nonDefaultJson("path");
+    asked["caustics"] = "paths";
+    Json j = parseSettings(asked).toJson();
     for (const char* name : {"photons", "caustic_photons", "photon_lookup", "k", "radius", "kernel",
                              "final_gather", "alpha"})
         EXPECT_FALSE(j.contains(name)) << name;
     for (const char* name : {"integrator", "spp", "max_depth", "rr_depth", "light_sampling", "mis",
                              "accelerator", "seed", "threads", "exposure"})
         EXPECT_TRUE(j.contains(name)) << name;
+    // Unless its caustics come from a photon map: then it lists that map's settings.
+    RenderSettings mapped = parseSettings(Json{{"caustics", "photon_map"}, {"photons", 1000}});
+    Json m = mapped.toJson();
+    for (const char* name : {"photons", "photon_lookup", "radius", "kernel", "alpha"})
+        EXPECT_TRUE(m.contains(name)) << name;
+    for (const char* name : {"caustic_photons", "k", "final_gather"})
+        EXPECT_FALSE(m.contains(name)) << name;
+    EXPECT_EQ(m["photons"], 1000);
+    EXPECT_EQ(parseSettings(m).toJson(), m);
     // Nor does a ray caster list the path length it never follows.
     RenderSettings raycast;
     raycast.integrator = "raycast";
@@ -243,7 +258,7 @@ TEST(SettingsJson, EveryIntegratorRoundTrips) {
         SCOPED_TRACE(name);
         const Json asked = nonDefaultJson(name);
         Json j = parseSettings(asked).toJson();
-        ASSERT_EQ(keys(j), readBy(name));
+        ASSERT_EQ(keys(j), readBy(name, /*photonCaustics=*/true));  // caustics: photon_map
         for (auto it = j.begin(); it != j.end(); ++it) {
             EXPECT_EQ(it.value(), asked[it.key()]) << it.key();
             if (it.key() != "integrator") {
@@ -259,15 +274,20 @@ TEST(SettingsJson, EveryIntegratorRoundTrips) {
 TEST(SettingsJson, EveryKeyAloneKeepsTheOthersAtTheirDefaults) {
     for (const SettingSpec& s : settingSpecs()) {
         SCOPED_TRACE(s.name);
+        // The first integrator that reads it alone (path reads a photon setting only beside
+        // caustics = photon_map).
         const std::string integrator = s.name == "integrator"  ? otherValue(s).get<std::string>()
                                        : s.integrators.empty() ? "path"
+                                       : s.causticMap          ? s.integrators.back()
                                                                : s.integrators.front();
         Json one{{"integrator", integrator}, {s.name, otherValue(s)}};
-        RenderSettings defaults;
-        defaults.integrator = integrator;
-        Json expected = defaults.toJson();
-        expected[s.name] = otherValue(s);
-        EXPECT_EQ(parseSettings(one).toJson(), expected);
+        // The defaults with this one field changed (which may list more settings: caustics).
+        RenderSettings changed;
+        changed.integrator = integrator;
+        s.field.set(changed, otherValue(s), s.choices);
+        const Json j = parseSettings(one).toJson();
+        EXPECT_EQ(j, changed.toJson());
+        EXPECT_EQ(j[s.name], otherValue(s));
     }
 }
 
