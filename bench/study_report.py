@@ -199,7 +199,9 @@ def report(rows, meta, command, out_dir):
         f" sampler, {next(r['spp_per_pass'] for r in rows if r['config'] == c)} spp per pass)"
         for c in configs) + ". Photon configurations trace 50,000 photon paths and 200,000 "
       "caustic photon paths per pass; `photon` uses the k nearest photons, `ppm` shrinks its "
-      "radius with `alpha` (2/3 unless named). Whitted and ray casting are left out: they do not "
+      "radius with `alpha` (2/3 unless named). `path+photon_map` is `path` with "
+      "`caustics=photon_map`: caustics from a caustic photon map of 15,000 (4 spp a pass) or "
+      "50,000 (16 spp a pass) caustic photon paths per pass, its radius shrinking as `ppm`'s. Whitted and ray casting are left out: they do not "
       "converge to the same image.\n")
 
     # 1. Time to a given error.
@@ -319,7 +321,7 @@ def report(rows, meta, command, out_dir):
               f"{max(ratios):.2f} | {100 * cov:.1f}% |")
     w("")
     w("Photon mapping's reported error excludes its bias: the passes of `photon` share one bias "
-      "and `ppm`'s shrinks pass by pass, so the pass variance sees neither. Its share of the "
+      "and `ppm`'s (and `path+photon_map`'s) shrinks pass by pass, so the pass variance sees neither. Its share of the "
       "error at the top rung, √(MSE − noise² − reference noise²) over the RMSE:\n")
     photon_configs = [c for c in configs if integrator_of(rows, c) not in UNBIASED]
     w("| scene | " + " | ".join(photon_configs) + " |")

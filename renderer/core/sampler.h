@@ -43,7 +43,7 @@ public:
     float uniform() {
         if (kind_ == SamplerKind::Independent) return rng_.uniform();
         uint64_t h = nextDimensionHash();
-        return fractionToFloat(owenScramble(sobolSample(shuffled(h), 0), uint32_t(h >> 32)));
+        return fractionToFloat(owenScrambledSobol(shuffled(h), 0, uint32_t(h >> 32)));
     }
 
     /// The next two dimensions, stratified jointly.
@@ -52,8 +52,8 @@ public:
         uint64_t h = nextDimensionHash();
         uint32_t index = shuffled(h);
         uint64_t h2 = mixBits(h);
-        return Vec2(fractionToFloat(owenScramble(sobolSample(index, 0), uint32_t(h2))),
-                    fractionToFloat(owenScramble(sobolSample(index, 1), uint32_t(h2 >> 32))));
+        return Vec2(fractionToFloat(owenScrambledSobol(index, 0, uint32_t(h2))),
+                    fractionToFloat(owenScrambledSobol(index, 1, uint32_t(h2 >> 32))));
     }
 
 private:

@@ -30,17 +30,35 @@ inline uint32_t reverseBits(uint32_t v) {
     return (v >> 16) | (v << 16);
 }
 
-/// Nested uniform (Owen) scrambling of a 32-bit fraction: each bit is flipped by a hash of the
-/// bits above it. Burley's hash, after Laine and Karras: on the bit-reversed value, each step
-/// changes a bit only from the bits below it.
-inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
-    v = reverseBits(v);
+/// Burley's hash, after Laine and Karras, on a bit-reversed 32-bit fraction: each step changes a
+/// bit only from the bits below it (the bits above it, once reversed back).
+inline uint32_t laineKarrasPermutation(uint32_t v, uint32_t seed) {
     v += seed;
     v ^= v * 0x6c50b47cu;
     v ^= v * 0xb82f1e52u;
     v ^= v * 0xc7afe638u;
     v ^= v * 0x8d22f6e6u;
-    return reverseBits(v);
+    return v;
+}
+
+/// Nested uniform (Owen) scrambling of a 32-bit fraction: each bit is flipped by a hash of the
+/// bits above it.
+inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
+    return reverseBits(laineKarrasPermutation(reverseBits(v), seed));
+}
+
+/// owenScramble(sobolSample(index, dimension), seed) for dimension 0 or 1, computed in the
+/// bit-reversed domain the scramble works in: Sobol's first dimension reversed is the index
+/// itself, and the second's reversed columns are 1, 3, 5, 15, ... (r' = r ^ (r << 1)). The same
+/// bits, two or three bit reversals fewer.
+inline uint32_t owenScrambledSobol(uint32_t index, int dimension, uint32_t seed) {
+    uint32_t reversed = index;
+    if (dimension == 1) {
+        reversed = 0;
+        for (uint32_t column = 1; index != 0; index >>= 1, column ^= column << 1)
+            if (index & 1u) reversed ^= column;
+    }
+    return reverseBits(laineKarrasPermutation(reversed, seed));
 }
 
 /// Element i of a random permutation of [0, n) chosen by `seed` (Kensler 2013, "Correlated
@@ -73,7 +91,8 @@ inline uint32_t permutationElement(uint32_t i, uint32_t n, uint32_t seed) {
         i &= w;
         i ^= i >> 5;
     } while (i >= n);
-    return (i + seed) % n;
+    // A power of two (the usual samples per pass) needs no division: the same value.
+    return (n & (n - 1)) == 0 ? (i + seed) & (n - 1) : (i + seed) % n;
 }
 
 /// A 32-bit fraction as a float in [0, 1): its top 24 bits, exact and below 1.

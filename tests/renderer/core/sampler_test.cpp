@@ -38,6 +38,22 @@ TEST(Sobol, PermutationElementIsAPermutationForEveryLength) {
     }
 }
 
+TEST(Sobol, ScrambledPointsInTheReversedDomainAreTheSameBits) {
+    // The sampler's shortcut: the scramble of Sobol's point, without the reversals that cancel.
+    for (uint32_t seed : {0u, 7u, 0x9e3779b9u, 0xffffffffu}) {
+        for (uint32_t i = 0; i < 4096; ++i) {
+            for (uint32_t index : {i, i * 0x9e3779b9u}) {
+                ASSERT_EQ(owenScrambledSobol(index, 0, seed),
+                          owenScramble(sobolSample(index, 0), seed))
+                    << index;
+                ASSERT_EQ(owenScrambledSobol(index, 1, seed),
+                          owenScramble(sobolSample(index, 1), seed))
+                    << index;
+            }
+        }
+    }
+}
+
 TEST(Sobol, OwenScrambleIsABijectionOnEachPrefix) {
     // Nested scrambling maps the 2^k intervals of length 2^-k onto each other: the top k bits of
     // the scrambled values of 0 .. 2^k - 1 (shifted up) are all different.
