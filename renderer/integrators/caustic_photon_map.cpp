@@ -11,12 +11,9 @@ CausticPhotonMap::CausticPhotonMap(const Scene& scene, const Accelerator& accel,
       accel_(accel),
       trace_(trace),
       settings_(settings),
-      firstPass_{settings.k, float(settings.radius), settings.kernel} {
-    // As ppm: from 1/500 of the scene's diagonal when no radius is given.
-    if (!(firstPass_.radius > 0.0f))
-        firstPass_.radius = 0.002f * glm::length(accel.bounds().hi - accel.bounds().lo);
-    pass_ = firstPass_;
-}
+      firstPass_{settings.k, PhotonIntegrator::firstRadius(settings.radius, accel),
+                 settings.kernel},
+      pass_(firstPass_) {}
 
 uint64_t CausticPhotonMap::beginPass(uint32_t pass, const Interrupt* interrupt) {
     pass_ = firstPass_;

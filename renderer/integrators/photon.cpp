@@ -21,11 +21,9 @@ PhotonIntegrator::PhotonIntegrator(const Scene& scene, const Accelerator& accel,
       progressive_(progressive),
       estimate_{settings.k, float(settings.radius), settings.kernel} {
     if (!progressive_) return;
-    // ppm estimates at the visible point only, with a radius that shrinks per pass; without a
-    // radius it starts from 1/500 of the scene's diagonal.
+    // ppm estimates at the visible point only, with a radius that shrinks per pass.
     settings_.finalGather = 0;
-    if (!(estimate_.radius > 0.0f))
-        estimate_.radius = 0.002f * glm::length(accel.bounds().hi - accel.bounds().lo);
+    estimate_.radius = firstRadius(settings.radius, accel);
 }
 
 PhotonTracingOptions PhotonIntegrator::tracingOptions(const TraceSettings& trace, uint64_t photons,

@@ -39,6 +39,12 @@ public:
 
     /// The radius of pass `pass` for initial radius r0 (Knaus & Zwicker 2011, eq. 20).
     static float progressiveRadius(float r0, float alpha, uint32_t pass);
+    /// The first pass's radius of a progressive estimate: `radius`, or 1/500 of the scene's
+    /// diagonal when it is 0.
+    static float firstRadius(double radius, const Accelerator& accel) {
+        return radius > 0 ? float(radius)
+                          : 0.002f * glm::length(accel.bounds().hi - accel.bounds().lo);
+    }
 
     /// `progressive` makes it ppm: the radius shrinks per pass (from 1/500 of the scene's
     /// diagonal when settings.radius is 0), and final gathering is off.

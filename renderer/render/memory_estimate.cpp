@@ -160,13 +160,16 @@ void checkMemoryEstimate(const Scene& scene, const RenderSettings& settings) {
     char perPath[32];
     std::snprintf(perPath, sizeof perPath, "%.1f",
                   storedPhotonsPerPathBound(scene, budget.maxDepth));
+    // Without a global map (path's caustic map) a path stores one caustic photon at most.
+    const std::string stored =
+        budget.photons > 0 ? "up to " + std::string(perPath) +
+                                 " photons stored a path, and one caustic photon with a specular "
+                                 "material"
+                           : "one caustic photon a path with a specular material";
     throw InputError(budget.setting,
                      "the photon maps of a pass could need about " +
-                         std::to_string(mib(e.photonMaps)) + " MiB (estimated from counts: up to " +
-                         perPath +
-                         " photons stored a path, and one caustic photon with a specular "
-                         "material), more than the " +
-                         std::to_string(mib(left)) +
+                         std::to_string(mib(e.photonMaps)) + " MiB (estimated from counts: " +
+                         stored + "), more than the " + std::to_string(mib(left)) +
                          " MiB the memory limit leaves; lower it, lower max_depth or raise "
                          "memory_limit");
 }
