@@ -144,6 +144,22 @@ void endCancelledJobs(pqxx::work& tx, double now) {
         now);
 }
 
+// Fails job `id` once the workers blocked from it (store/task.h, "Faults") are
+// `failAfterWorkers`, or every worker alive; `error` is the last failure's. False when it goes on.
+bool failIfBlocked(pqxx::work& tx, const std::string& id, double now, const FarmPolicy& policy,
+                   const std::string& error) {
+    pqxx::row counts = tx.exec_params1(
+        "SELECT (SELECT COUNT(*) FROM task_failures WHERE job_id = $1 AND failures >= $2), "
+        "(SELECT COUNT(*) FROM workers WHERE last_seen >= $3)",
+        id, policy.blockAfterFailures, now - kWorkerAliveSeconds);
+    const int blocked = counts[0].as<int>();
+    const int alive = std::max(1, counts[1].as<int>());
+    return blocked >= std::min(policy.failAfterWorkers, alive) &&
+           failJobRow(
+               tx, id, now,
+               "its tasks failed on " + std::to_string(blocked) + " workers; the last: " + error);
+}
+
 }  // namespace
 
 std::optional<ClaimedTask> PostgresJobStore::claimTask(const std::string& worker, double now,
@@ -174,7 +190,23 @@ std::optional<ClaimedTask> PostgresJobStore::claimTask(const std::string& worker
             "f.worker_id = $1 AND f.failures >= $2) ORDER BY j.priority DESC, j.seq, "
             "t.first_pass LIMIT 1 FOR UPDATE OF t SKIP LOCKED",
             worker, policy.blockAfterFailures);
-        if (pick.empty()) return std::nullopt;
+        if (pick.empty()) {
+            // Idle: a job this worker is blocked from fails once every worker alive is (those
+            // free to render it when the last failure was counted may have gone since).
+            bool failed = false;
+            for (const pqxx::row& r : tx.exec_params(
+                     "SELECT f.job_id, f.last_error FROM task_failures f JOIN jobs j ON j.id = "
+                     "f.job_id WHERE f.worker_id = $1 AND f.failures >= $2 AND j.state IN "
+                     "('queued', 'running') ORDER BY f.job_id FOR UPDATE OF j",
+                     worker, policy.blockAfterFailures))
+                failed |=
+                    failIfBlocked(tx, r[0].as<std::string>(), now, policy, r[1].as<std::string>());
+            if (failed) {
+                endCancelledJobs(tx, now);
+                notifyJobs(tx);
+            }
+            return std::nullopt;
+        }
         ClaimedTask claimed;
         Task& task = claimed.task;
         task.jobId = pick[0][0].as<std::string>();
@@ -316,6 +348,9 @@ void PostgresJobStore::releaseTask(const Task& task, double now) {
 bool PostgresJobStore::failTask(const Task& task, const std::string& worker,
                                 const std::string& error, double now, const FarmPolicy& policy) {
     return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+        // The job's row lock serializes the failures of its tasks: two counted at once would
+        // each miss the other's block, and the job would wait for workers it has none of.
+        tx.exec_params("SELECT 1 FROM jobs WHERE id = $1 FOR UPDATE", task.jobId);
         if (!requeueTask(tx, task)) return false;
         tx.exec_params("UPDATE workers SET tasks_failed = tasks_failed + 1 WHERE id = $1", worker);
         tx.exec_params(
@@ -323,17 +358,7 @@ bool PostgresJobStore::failTask(const Task& task, const std::string& worker,
             "1, $3) ON CONFLICT (job_id, worker_id) DO UPDATE SET failures = "
             "task_failures.failures + 1, last_error = excluded.last_error",
             task.jobId, worker, error);
-        // Fails once enough workers are blocked from it, or every worker alive is.
-        pqxx::row counts = tx.exec_params1(
-            "SELECT (SELECT COUNT(*) FROM task_failures WHERE job_id = $1 AND failures >= $2), "
-            "(SELECT COUNT(*) FROM workers WHERE last_seen >= $3)",
-            task.jobId, policy.blockAfterFailures, now - kWorkerAliveSeconds);
-        const int workers = counts[0].as<int>();
-        const int alive = std::max(1, counts[1].as<int>());
-        const bool failed = workers >= std::min(policy.failAfterWorkers, alive) &&
-                            failJobRow(tx, task.jobId, now,
-                                       "its tasks failed on " + std::to_string(workers) +
-                                           " workers; the last: " + error);
+        const bool failed = failIfBlocked(tx, task.jobId, now, policy, error);
         endCancelledJobs(tx, now);
         notifyJobs(tx);
         return failed;

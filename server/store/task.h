@@ -15,7 +15,9 @@
 // back in the queue; a task whose leases expire `maxStalledLeases` times in a row fails the job. A
 // worker whose render of a job's task fails (an exception) is blocked from that job after
 // `blockAfterFailures` failures; the job fails once `failAfterWorkers` distinct workers failed it
-// (a broken node must not fail everyone's jobs). Bad input (an InputError) fails the job at once.
+// (a broken node must not fail everyone's jobs), or every worker alive is blocked from it (checked
+// at each failure, and by each idle blocked worker's claims: the workers that were still free to
+// render it may have gone since). Bad input (an InputError) fails the job at once.
 #pragma once
 
 #include <cstdint>

@@ -429,3 +429,5 @@ def farm(postgres, start_server, caustic_bin, tmp_path):
     yield make
     for w in started:
         w.stop()
+        # Shown only when the test failed (pytest's captured output of the teardown).
+        print(f"--- {w.name} {' '.join(w.args[2:])}\n{w.log()}")

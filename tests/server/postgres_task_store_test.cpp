@@ -69,6 +69,15 @@ protected:
         return store_->claimTask(worker, now, policy_);
     }
 
+    // Worker `id`'s row, renewed at `now` (a worker started at 1000).
+    void seen(const std::string& id, double now) {
+        WorkerInfo w;
+        w.id = id;
+        w.startedAt = 1000;
+        w.lastSeen = now;
+        store_->workerSeen(w);
+    }
+
     // What a worker hands in for `task`: the film of its passes, or each pass's image.
     static TaskResult resultOf(const Task& task, bool passImages) {
         TaskResult r;
@@ -193,12 +202,7 @@ TEST_F(TaskStoreTest, ATargetErrorStopsAtTheSamePassAsOneProcess) {
 
 TEST_F(TaskStoreTest, AWorkerThatFailsAJobsTasksIsBlockedFromIt) {
     submit("j", 4, 1);
-    for (const char* id : {"a", "b", "c"}) {
-        WorkerInfo w;
-        w.id = id;
-        w.startedAt = w.lastSeen = 1000;
-        store_->workerSeen(w);
-    }
+    for (const char* id : {"a", "b", "c"}) seen(id, 1000);
     for (int i = 0; i < 2; ++i) {
         std::optional<ClaimedTask> c = claim("a");
         ASSERT_TRUE(c);
@@ -220,6 +224,25 @@ TEST_F(TaskStoreTest, AWorkerThatFailsAJobsTasksIsBlockedFromIt) {
     EXPECT_EQ(job->state, JobState::Failed);
     EXPECT_NE(job->error.find("3 workers"), std::string::npos) << job->error;
     EXPECT_NE(job->error.find("last words"), std::string::npos) << job->error;
+}
+
+TEST_F(TaskStoreTest, AJobFailsOnceEveryWorkerLeftIsBlockedFromIt) {
+    submit("j", 4, 1);
+    for (const char* id : {"a", "b", "c"}) seen(id, 1000);
+    for (const char* id : {"a", "b"})
+        for (int i = 0; i < 2; ++i)
+            EXPECT_FALSE(store_->failTask(claim(id)->task, id, "boom", 1001, policy_)) << id;
+    // c, alive and not blocked, could render it: the job waits for c.
+    EXPECT_FALSE(claim("a", 1002));
+    EXPECT_EQ(store_->get("j")->state, JobState::Running);
+    // c is gone (its row not renewed for kWorkerAliveSeconds); a and b keep their rows up.
+    const double later = 1000 + kWorkerAliveSeconds + 1;
+    for (const char* id : {"a", "b"}) seen(id, later);
+    EXPECT_FALSE(claim("a", later));
+    std::optional<Job> job = store_->get("j");
+    EXPECT_EQ(job->state, JobState::Failed);
+    EXPECT_NE(job->error.find("2 workers"), std::string::npos) << job->error;
+    EXPECT_NE(job->error.find("boom"), std::string::npos) << job->error;
 }
 
 TEST_F(TaskStoreTest, ATaskThatStallsTooOftenFailsItsJob) {
