@@ -84,11 +84,21 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
         // array empty when every other leaf holds one primitive, and indexing there is undefined.
         const uint32_t* prims = count == 1 ? &node.onePrim : primIndices_.data() + node.primOffset;
         for (uint32_t i = 0; i < count; ++i) {
-            if (auto h = geometry_.intersect(prims[i], wr, closest)) {
+            const uint32_t prim = prims[i];
+            std::optional<PrimHit> h;
+            if (!triangles_.empty() && geometry_.kind(prim) == PrimKind::Triangle) {
+                // Geometry::intersect's triangle case, on the same vertices: the same bits.
+                const TriangleVertices& v = triangles_[prim];
+                if (auto th = intersectTriangle(wr, closest, v.p0, v.p1, v.p2))
+                    h = PrimHit{th->t, Vec2(th->b1, th->b2)};
+            } else {
+                h = geometry_.intersect(prim, wr, closest);
+            }
+            if (h) {
                 if constexpr (AnyHit) return true;
                 closest = h->t;
                 best = *h;
-                bestPrim = prims[i];
+                bestPrim = prim;
                 found = true;
             }
         }

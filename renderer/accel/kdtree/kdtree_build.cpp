@@ -306,10 +306,20 @@ KdTreeAccel::KdTreeAccel(const Geometry& geometry, const KdTreeOptions& options)
     : geometry_(geometry) {
     static_assert(sizeof(Node) == 8);
     KdTreeBuilder(*this, options).build();
+    if (geometry.hasTriangles()) {
+        triangles_.resize(geometry.size());
+        const std::vector<Vec3>& positions = geometry.positions();
+        for (uint32_t p = 0; p < geometry.size(); ++p) {
+            if (geometry.kind(p) != PrimKind::Triangle) continue;
+            const glm::uvec3& t = geometry.triangles()[geometry.localIndex(p)];
+            triangles_[p] = TriangleVertices{positions[t.x], positions[t.y], positions[t.z]};
+        }
+    }
 }
 
 size_t KdTreeAccel::memoryBytes() const {
-    return nodes_.capacity() * sizeof(Node) + primIndices_.capacity() * sizeof(uint32_t);
+    return nodes_.capacity() * sizeof(Node) + primIndices_.capacity() * sizeof(uint32_t) +
+           triangles_.capacity() * sizeof(TriangleVertices);
 }
 
 }  // namespace caustic
