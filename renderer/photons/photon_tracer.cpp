@@ -77,6 +77,12 @@ PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
     PhotonTracing result;
     result.emitted = options.photons;
     if (scene.lightSampler.empty() || options.photons == 0) return result;
+    // A caustic needs a specular bounce: without a specular material no path could store one, and
+    // tracing them would only spend rays.
+    if (options.causticOnly &&
+        std::none_of(scene.materials.begin(), scene.materials.end(),
+                     [](const std::unique_ptr<Material>& m) { return m->isSpecular(); }))
+        return result;
     const uint64_t chunks = (options.photons + kChunk - 1) / kChunk;
     std::vector<Chunk> done(chunks);
     for (Chunk& c : done) c.interrupt = InterruptPoller(options.interrupt);

@@ -50,7 +50,8 @@ struct PhotonTracing {
     bool interrupted = false;  ///< Stopped early by options.interrupt: the photons are partial.
 };
 
-/// Traces `options.photons` photon paths from the scene's lights (none when nothing emits).
+/// Traces `options.photons` photon paths from the scene's lights (none when nothing emits, nor
+/// caustic-only ones in a scene without a specular material, where no caustic can be).
 PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
                            const PhotonTracingOptions& options);
 

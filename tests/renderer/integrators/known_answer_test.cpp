@@ -93,5 +93,19 @@ TEST(PhotonCaustics, DirectLightOnlyIsThePathTracedImageBitForBit) {
     EXPECT_GT(mapped.stats.rays, render(*scene, settingsFrom(base)).stats.rays);
 }
 
+TEST(PhotonCaustics, AreNotTracedInASceneWithoutSpecularSurfaces) {
+    // cornell-box is diffuse only: no caustic exists, the map stays empty and costs no ray, and
+    // the image is the path-traced one bit for bit.
+    auto scene = sceneFromJson(exampleScene("cornell-box", 24, 16));
+    const json base{{"spp", 8}, {"spp_per_pass", 4}, {"photons", 2000}};
+    RenderResult plain = render(*scene, settingsFrom(base));
+    RenderResult mapped =
+        render(*scene, settingsFrom(mergePatched(base, {{"caustics", "photon_map"}})));
+    std::vector<float> a = plain.film->meanRgb(), b = mapped.film->meanRgb();
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
+    EXPECT_EQ(mapped.stats.rays, plain.stats.rays);
+}
+
 }  // namespace
 }  // namespace caustic
