@@ -110,9 +110,7 @@ std::optional<PrimHit> Geometry::intersect(uint32_t prim, const WatertightRay& w
         case PrimKind::Triangle: {
             Vec3 p0, p1, p2;
             triangleVertices(i, p0, p1, p2);
-            if (auto h = intersectTriangle(wr, tMax, p0, p1, p2))
-                return PrimHit{h->t, Vec2(h->b1, h->b2)};
-            return std::nullopt;
+            return intersectVertices(wr, tMax, p0, p1, p2);
         }
     }
     return std::nullopt;

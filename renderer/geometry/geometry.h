@@ -58,6 +58,22 @@ public:
     std::optional<PrimHit> intersect(uint32_t prim, const Ray& ray, float tMax) const {
         return intersect(prim, WatertightRay(ray), tMax);
     }
+    /// intersect()'s triangle case on given vertices, for accelerators that keep their own copy
+    /// of them (the kd-tree): the same vertices give the same bits.
+    static std::optional<PrimHit> intersectVertices(const WatertightRay& ray, float tMax,
+                                                    const Vec3& p0, const Vec3& p1,
+                                                    const Vec3& p2) {
+        if (auto h = caustic::intersectTriangle(ray, tMax, p0, p1, p2))
+            return PrimHit{h->t, Vec2(h->b1, h->b2)};
+        return std::nullopt;
+    }
+    /// The vertices of the mesh triangle of local index `local` (localIndex of a Triangle).
+    void triangleVertices(uint32_t local, Vec3& p0, Vec3& p1, Vec3& p2) const {
+        const glm::uvec3& t = triangles_[local];
+        p0 = positions_[t.x];
+        p1 = positions_[t.y];
+        p2 = positions_[t.z];
+    }
     /// Completes a primitive hit with the primitive index and the front-side unit normal.
     Hit finish(uint32_t prim, const Ray& ray, const PrimHit& h) const;
     /// The surface at a hit: point from the surface parameters, its error bound, normal, material.
@@ -84,12 +100,6 @@ public:
 
 private:
     uint32_t push(PrimKind kind, uint32_t local, uint32_t material);
-    void triangleVertices(uint32_t local, Vec3& p0, Vec3& p1, Vec3& p2) const {
-        const glm::uvec3& t = triangles_[local];
-        p0 = positions_[t.x];
-        p1 = positions_[t.y];
-        p2 = positions_[t.z];
-    }
 
     std::vector<PrimKind> kind_;
     std::vector<uint32_t> local_;

@@ -85,16 +85,12 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
         const uint32_t* prims = count == 1 ? &node.onePrim : primIndices_.data() + node.primOffset;
         for (uint32_t i = 0; i < count; ++i) {
             const uint32_t prim = prims[i];
-            std::optional<PrimHit> h;
-            if (!triangles_.empty() && geometry_.kind(prim) == PrimKind::Triangle) {
-                // Geometry::intersect's triangle case, on the same vertices: the same bits.
-                const TriangleVertices& v = triangles_[prim];
-                if (auto th = intersectTriangle(wr, closest, v.p0, v.p1, v.p2))
-                    h = PrimHit{th->t, Vec2(th->b1, th->b2)};
-            } else {
-                h = geometry_.intersect(prim, wr, closest);
-            }
-            if (h) {
+            const TriangleVertices* v =
+                triangles_.empty() || geometry_.kind(prim) != PrimKind::Triangle
+                    ? nullptr
+                    : &triangles_[prim];
+            if (auto h = v ? Geometry::intersectVertices(wr, closest, v->p0, v->p1, v->p2)
+                           : geometry_.intersect(prim, wr, closest)) {
                 if constexpr (AnyHit) return true;
                 closest = h->t;
                 best = *h;

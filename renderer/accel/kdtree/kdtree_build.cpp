@@ -308,11 +308,10 @@ KdTreeAccel::KdTreeAccel(const Geometry& geometry, const KdTreeOptions& options)
     KdTreeBuilder(*this, options).build();
     if (geometry.hasTriangles()) {
         triangles_.resize(geometry.size());
-        const std::vector<Vec3>& positions = geometry.positions();
         for (uint32_t p = 0; p < geometry.size(); ++p) {
-            if (geometry.kind(p) != PrimKind::Triangle) continue;
-            const glm::uvec3& t = geometry.triangles()[geometry.localIndex(p)];
-            triangles_[p] = TriangleVertices{positions[t.x], positions[t.y], positions[t.z]};
+            TriangleVertices& v = triangles_[p];
+            if (geometry.kind(p) == PrimKind::Triangle)
+                geometry.triangleVertices(geometry.localIndex(p), v.p0, v.p1, v.p2);
         }
     }
 }
