@@ -29,6 +29,14 @@ struct TileRenderer {
     const std::vector<uint16_t>* sampleMap;  ///< Samples per pixel; null for sppPerPass each.
     std::vector<Color>& out;
 
+    // The pixel's samples in the passes before this one, which takes `samples`: the uniform
+    // passes' (all of them, or the adaptive pilot's) and, after the pilot, its share of the map's.
+    uint32_t samplesBefore(int samples) const {
+        if (!sampleMap) return pass * uint32_t(sppPerPass);
+        return uint32_t(kAdaptivePilotPasses * sppPerPass) +
+               (pass - uint32_t(kAdaptivePilotPasses)) * uint32_t(samples);
+    }
+
     // Renders one tile; adds its rays and dropped samples to the counters.
     void tile(int tx, int ty, uint64_t& rays, uint64_t& dropped) const {
         const Camera& camera = scene.camera;
@@ -42,10 +50,11 @@ struct TileRenderer {
                 DVec3 sum(0.0);  // double: many large finite samples must not overflow
                 int valid = 0;
                 const int samples = sampleMap ? (*sampleMap)[pixel] : sppPerPass;
+                const uint32_t before = samplesBefore(samples);
                 for (int s = 0; s < samples; ++s) {
                     if (ctx.interrupted()) break;  // the pass is dropped
                     ctx.sampler = Sampler::forSample(settings.sampler, settings.seed, pass, pixel,
-                                                     uint32_t(s), uint32_t(samples));
+                                                     uint32_t(s), uint32_t(samples), before);
                     Vec2 jitter = ctx.sampler.uniform2();
                     Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
                     Color L = integrator.Li(ray, ctx);

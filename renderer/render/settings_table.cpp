@@ -229,12 +229,15 @@ std::vector<SettingSpec> rows() {
                         "it faster."},
         {.name = "sampler",
          .field = field(&R::sampler),
-         .choices = {"independent", "sobol"},  // SamplerKind's order
-         .description = "Random numbers of the pixel samples: independent (PCG32), or sobol "
+         .choices = {"independent", "sobol", "sobol_sequence"},  // SamplerKind's order
+         .description = "Random numbers of the pixel samples: independent (PCG32); sobol "
                         "(Owen-scrambled Sobol' points, padded: the samples of a pixel in one pass "
-                        "are stratified in every pair of dimensions). Each pass is an independent "
-                        "randomization either way, so error estimates stay valid; sobol gains "
-                        "with more samples per pass."},
+                        "are stratified in every pair of dimensions; each pass is an independent "
+                        "randomization, so error estimates stay valid; it gains with more samples "
+                        "per pass); or sobol_sequence (one scrambled Sobol' sequence runs through "
+                        "all of a pixel's passes, so the error falls faster than 1/sqrt(spp), as "
+                        "Cycles' sampler; the passes are then negatively correlated, so the "
+                        "estimated error is an overestimate, and target_error stops late)."},
         {.name = "adaptive",
          .field = field(&R::adaptive),
          .description = "Adaptive sampling: after 8 uniform pilot passes, each pass gives each "

@@ -2,7 +2,8 @@
 // reduced size (docs/study/README.md has the full-size figures): the relative error estimated from
 // the pass variance against the true relative error (against a long reference, less the
 // reference's own noise), at several pass counts, within 0.8 to 1.25; and the share of pixel
-// values whose 95% Student-t interval from the passes holds the reference.
+// values whose 95% Student-t interval from the passes holds the reference. With sobol_sequence,
+// whose passes are not independent, the reported error must not be below the true one.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -101,6 +102,47 @@ TEST_P(ErrorTrust, ReportedErrorTracksTheTrueErrorAndIntervalsCoverTheReference)
         EXPECT_LE(coverage, 0.99) << passes << " passes";
         if (passes == 32) {
             EXPECT_GE(coverage, leastCoverage(GetParam()));
+        }
+    }
+}
+
+// sobol_sequence runs one Sobol' sequence through a pixel's passes: they fill each other's gaps,
+// so their mean is more accurate than their spread says, and the reported error is an
+// overestimate (the setting's documentation says so). Checked: not an underestimate, at 8, 16 and
+// 32 passes of 4 samples, on scenes without caustics (those with them are at the Monte Carlo rate
+// either way: their error is the few paths that find the lamp through glass). Measured 1.98 to
+// 3.10 on cornell-box and bunny, 1.10 to 1.14 on indirect; the bound, 0.9, is the trust test's
+// lower one with half its margin.
+TEST(ErrorTrustOfSobolSequence, ReportedErrorIsNotBelowTheTrueError) {
+    for (const std::string name : {"cornell-box", "bunny", "indirect"}) {
+        auto scene = sceneFromJson(exampleScene(name, kSize, kSize));
+        RenderResult ref =
+            render(*scene, settingsFrom({{"spp", 8192}, {"spp_per_pass", 128}, {"seed", 1000003}}));
+        const std::vector<float> refMean = ref.film->meanRgb(),
+                                 refSe = ref.film->standardErrorRgb();
+        std::map<int, double> reported, truth;
+        for (int seed = 1; seed <= kSeeds; ++seed) {
+            RenderCallbacks callbacks;
+            callbacks.onPass = [&](const Film& film) {
+                for (int passes : kRungs) {
+                    if (film.passes() != passes) continue;
+                    const Trust t = trustOf(film, refMean, refSe);
+                    reported[passes] += t.reported * t.reported;
+                    truth[passes] += t.truth * t.truth;
+                }
+            };
+            render(*scene,
+                   settingsFrom({{"spp", 128},
+                                 {"spp_per_pass", 4},
+                                 {"sampler", "sobol_sequence"},
+                                 {"seed", seed}}),
+                   callbacks);
+        }
+        for (int passes : kRungs) {
+            const double ratio = std::sqrt(reported[passes] / truth[passes]);
+            std::printf("  %s, sobol_sequence, %d passes: reported / true error %.3f\n",
+                        name.c_str(), passes, ratio);
+            EXPECT_GE(ratio, 0.9) << name << ", " << passes << " passes";
         }
     }
 }

@@ -34,7 +34,7 @@ struct FurnaceCase {
     Enclosure enclosure;
     double rho;
     Sampling sampling;
-    bool sobol = false;  ///< The sobol sampler instead of independent numbers.
+    std::string sampler = "independent";  ///< The `sampler` setting.
 };
 
 // Every albedo and sampling mode in the sphere, whose light sampling from inside is by area (and
@@ -62,9 +62,12 @@ std::vector<FurnaceCase> furnaceCases() {
     cases.push_back({Enclosure::Icosphere, 0.9, Sampling::Light});
     cases.push_back({Enclosure::Icosphere, 0.9, Sampling::Mis});
     // The RQMC sampler converges to the same answer, and its pass variance is as trustworthy.
-    cases.push_back({Enclosure::Sphere, 0.9, Sampling::Mis, true});
-    cases.push_back({Enclosure::Box, 0.9, Sampling::Mis, true});
-    cases.push_back({Enclosure::Icosphere, 0.9, Sampling::Light, true});
+    cases.push_back({Enclosure::Sphere, 0.9, Sampling::Mis, "sobol"});
+    cases.push_back({Enclosure::Box, 0.9, Sampling::Mis, "sobol"});
+    cases.push_back({Enclosure::Icosphere, 0.9, Sampling::Light, "sobol"});
+    // So does one sequence through the passes (whose pass variance only overestimates).
+    cases.push_back({Enclosure::Sphere, 0.9, Sampling::Mis, "sobol_sequence"});
+    cases.push_back({Enclosure::Box, 0.9, Sampling::Mis, "sobol_sequence"});
     return cases;
 }
 
@@ -91,14 +94,13 @@ TEST_P(Furnace, EveryPixelIsLeOverOneMinusAlbedo) {
     // relative standard deviation of a sample is ~sqrt(rho) whatever rho (the number of bounces
     // is geometric), so the cheap cases get the tighter image-mean test.
     const int sppPerPass = fc.rho < 0.6 ? 128 : fc.rho < 0.95 ? 32 : 4;
-    RenderResult r =
-        render(*scene, settingsFrom(mergePatched({{"integrator", "path"},
-                                                  {"max_depth", 100000},
-                                                  {"spp", kPasses * sppPerPass},
-                                                  {"spp_per_pass", sppPerPass},
-                                                  {"seed", 11},
-                                                  {"sampler", fc.sobol ? "sobol" : "independent"}},
-                                                 samplingSettings(fc.sampling))));
+    RenderResult r = render(*scene, settingsFrom(mergePatched({{"integrator", "path"},
+                                                               {"max_depth", 100000},
+                                                               {"spp", kPasses * sppPerPass},
+                                                               {"spp_per_pass", sppPerPass},
+                                                               {"seed", 11},
+                                                               {"sampler", fc.sampler}},
+                                                              samplingSettings(fc.sampling))));
     ASSERT_EQ(r.film->passes(), kPasses);
     EXPECT_EQ(r.stats.droppedSamples, 0u);
 
@@ -118,7 +120,9 @@ INSTANTIATE_TEST_SUITE_P(PathTracer, Furnace, ::testing::ValuesIn(furnaceCases()
                              std::replace(name.begin(), name.end(), '.', '_');
                              return std::string(testing::enclosureName(p.param.enclosure)) +
                                     "_Albedo" + name + "_" + samplingName(p.param.sampling) +
-                                    (p.param.sobol ? "_Sobol" : "");
+                                    (p.param.sampler == "sobol"            ? "_Sobol"
+                                     : p.param.sampler == "sobol_sequence" ? "_SobolSequence"
+                                                                           : "");
                          });
 
 }  // namespace

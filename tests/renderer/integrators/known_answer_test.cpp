@@ -52,7 +52,7 @@ TEST(Dielectric, SphereOfIorOneLeavesTheImageUnchanged) {
 TEST(Determinism, SameImageWithOneAndTwoThreads) {
     auto scene = sceneFromJson(testing::exampleScene("cornell-spheres", 64, 48));
     for (const std::string& integrator : testing::integratorVariants()) {
-        for (const std::string sampler : {"independent", "sobol", "adaptive"}) {
+        for (const std::string sampler : {"independent", "sobol", "sobol_sequence", "adaptive"}) {
             SCOPED_TRACE(sampler);
             // Few photons: photon tracing runs in parallel too, and must not depend on it either.
             // Adaptive sampling: 2 passes after its pilot of 8.

@@ -64,8 +64,10 @@ protected:
                            {"photons", 3000},
                            {"seed", 7},
                            {"threads", 2},
-                           {"sampler", sampler == "independent" ? "independent" : "sobol"},
-                           {"adaptive", sampler == "adaptive"}});
+                           {"sampler", sampler == "adaptive"            ? "sobol"
+                                       : sampler == "adaptive_sequence" ? "sobol_sequence"
+                                                                        : sampler},
+                           {"adaptive", sampler.starts_with("adaptive")}});
     }
     RenderSettings settings(double targetError) const {
         nlohmann::json j = json_;
@@ -158,7 +160,8 @@ TEST_P(PassRanges, TargetErrorStopsAtTheSamePassWhateverTheSplit) {
 INSTANTIATE_TEST_SUITE_P(
     IntegratorsAndSamplers, PassRanges,
     ::testing::Combine(::testing::ValuesIn(testing::integratorVariants()),
-                       ::testing::Values("independent", "sobol", "adaptive")),
+                       ::testing::Values("independent", "sobol", "sobol_sequence", "adaptive",
+                                         "adaptive_sequence")),
     [](const ::testing::TestParamInfo<std::tuple<std::string, std::string>>& p) {
         return std::get<0>(p.param) + "_" + std::get<1>(p.param);
     });
