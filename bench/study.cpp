@@ -67,6 +67,16 @@ std::vector<Config> allConfigs() {
           {"sampler", "sobol"},
           {"caustics", "photon_map"},
           {"photons", 50000}}},
+        // One Sobol' sequence through a pixel's passes: faster convergence, and an error
+        // estimate that overestimates (core/sampler.h).
+        {"path-sobol-sequence-16",
+         {{"integrator", "path"}, {"spp_per_pass", 16}, {"sampler", "sobol_sequence"}}},
+        {"path-sobol-sequence-16-caustic-map",
+         {{"integrator", "path"},
+          {"spp_per_pass", 16},
+          {"sampler", "sobol_sequence"},
+          {"caustics", "photon_map"},
+          {"photons", 50000}}},
         {"photon-k50", with({{"integrator", "photon"}, {"spp_per_pass", 4}, {"k", 50}})},
         {"photon-k200", with({{"integrator", "photon"}, {"spp_per_pass", 4}, {"k", 200}})},
         {"ppm", with({{"integrator", "ppm"}, {"spp_per_pass", 4}})},
