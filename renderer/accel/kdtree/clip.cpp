@@ -63,9 +63,15 @@ Bounds3 clipPrimitive(const Geometry& geometry, uint32_t prim, const Bounds3& bo
         const glm::uvec3& t = geometry.triangles()[i];
         for (int k = 0; k < 3; ++k) poly.v[poly.n++] = geometry.positions()[t[k]];
     }
+    // Only the planes that cut the primitive's own bounds can clip it (a straddling reference
+    // usually crosses one or two of the six): the others would copy the polygon unchanged. The
+    // vertices that clipping interpolates stay within those bounds but for rounding, which the
+    // slack below covers.
+    Bounds3 own;
+    for (int k = 0; k < poly.n; ++k) own.extend(poly.v[k]);
     for (int axis = 0; axis < 3 && poly.n > 0; ++axis) {
-        poly.clip(axis, grown.lo[axis], 1.0f);
-        if (poly.n > 0) poly.clip(axis, grown.hi[axis], -1.0f);
+        if (own.lo[axis] < grown.lo[axis]) poly.clip(axis, grown.lo[axis], 1.0f);
+        if (poly.n > 0 && own.hi[axis] > grown.hi[axis]) poly.clip(axis, grown.hi[axis], -1.0f);
     }
     Bounds3 b;
     for (int k = 0; k < poly.n; ++k) b.extend(poly.v[k]);

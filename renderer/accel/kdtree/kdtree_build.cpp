@@ -124,23 +124,31 @@ private:
         double lo_, hi_, cap_ = 0, ring_ = 0;
     };
 
+    // Counts each axis' starts and ends per bin in one pass over the references (each is read
+    // once, not once per axis), then sweeps every axis' bin edges.
     Split findBinned(const std::vector<Ref>& refs, const Bounds3& box) const {
+        double lo[3], extent[3], scale[3];
+        for (int axis = 0; axis < 3; ++axis) {
+            lo[axis] = box.lo[axis];
+            extent[axis] = double(box.hi[axis]) - lo[axis];
+            scale[axis] = extent[axis] > 0.0 ? kBins / extent[axis] : 0.0;
+        }
+        size_t starts[3][kBins] = {}, ends[3][kBins] = {};
+        for (const Ref& r : refs) {
+            for (int axis = 0; axis < 3; ++axis) {
+                ++starts[axis][binOf((r.b.lo[axis] - lo[axis]) * scale[axis])];
+                ++ends[axis][binOf((r.b.hi[axis] - lo[axis]) * scale[axis])];
+            }
+        }
         Split best;
         for (int axis = 0; axis < 3; ++axis) {
-            double lo = box.lo[axis], extent = double(box.hi[axis]) - lo;
-            if (!(extent > 0.0)) continue;
-            double scale = kBins / extent;
+            if (!(extent[axis] > 0.0)) continue;
             const SplitCost cost(options_, box, axis);
-            size_t starts[kBins] = {}, ends[kBins] = {};
-            for (const Ref& r : refs) {
-                ++starts[binOf((r.b.lo[axis] - lo) * scale)];
-                ++ends[binOf((r.b.hi[axis] - lo) * scale)];
-            }
             size_t nBelow = 0, nAbove = refs.size();
             for (int i = 1; i < kBins; ++i) {
-                nBelow += starts[i - 1];
-                nAbove -= ends[i - 1];
-                auto pos = float(lo + extent * i / kBins);
+                nBelow += starts[axis][i - 1];
+                nAbove -= ends[axis][i - 1];
+                auto pos = float(lo[axis] + extent[axis] * i / kBins);
                 // A box a few floats wide has bin edges that round onto its faces.
                 if (!(pos > box.lo[axis] && pos < box.hi[axis])) continue;
                 double c = cost(pos, nBelow, nAbove);
@@ -150,32 +158,37 @@ private:
         return best;
     }
 
+    // The exact sweep over every primitive boundary (pbrt-v3 4.4.2): the starts and the ends of
+    // the references sorted apart, as plain floats, and merged in the sweep, starts first at equal
+    // positions (the order of pbrt-v3's sorted events, without sorting them as pairs).
     Split findExact(const std::vector<Ref>& refs, const Bounds3& box) const {
-        struct Event {
-            float pos;
-            int type;  // 0: start, 1: end; starts sort first at equal positions (pbrt-v3)
-            bool operator<(const Event& e) const {
-                return pos < e.pos || (pos == e.pos && type < e.type);
-            }
-        };
+        const size_t n = refs.size();
+        float starts[kExactLimit], ends[kExactLimit];
         Split best;
-        std::vector<Event> events(2 * refs.size());
         for (int axis = 0; axis < 3; ++axis) {
             if (!(box.hi[axis] > box.lo[axis])) continue;
-            for (size_t i = 0; i < refs.size(); ++i) {
-                events[2 * i] = Event{refs[i].b.lo[axis], 0};
-                events[2 * i + 1] = Event{refs[i].b.hi[axis], 1};
+            for (size_t i = 0; i < n; ++i) {
+                starts[i] = refs[i].b.lo[axis];
+                ends[i] = refs[i].b.hi[axis];
             }
-            std::sort(events.begin(), events.end());
+            std::sort(starts, starts + n);
+            std::sort(ends, ends + n);
             const SplitCost cost(options_, box, axis);
-            size_t nBelow = 0, nAbove = refs.size();
-            for (const Event& e : events) {
-                if (e.type == 1) --nAbove;
-                if (e.pos > box.lo[axis] && e.pos < box.hi[axis]) {
-                    double c = cost(e.pos, nBelow, nAbove);
-                    if (c < best.cost) best = Split{axis, e.pos, c};
+            size_t nBelow = 0, nAbove = n;
+            for (size_t i = 0, j = 0; i < n || j < n;) {
+                const bool start = i < n && (j == n || starts[i] <= ends[j]);
+                const float pos = start ? starts[i] : ends[j];
+                if (!start) --nAbove;
+                if (pos > box.lo[axis] && pos < box.hi[axis]) {
+                    double c = cost(pos, nBelow, nAbove);
+                    if (c < best.cost) best = Split{axis, pos, c};
                 }
-                if (e.type == 0) ++nBelow;
+                if (start) {
+                    ++nBelow;
+                    ++i;
+                } else {
+                    ++j;
+                }
             }
         }
         return best;
@@ -186,6 +199,8 @@ private:
                    std::vector<Ref>& below, std::vector<Ref>& above) const {
         Bounds3 belowBox = childBox(box, axis, pos, false),
                 aboveBox = childBox(box, axis, pos, true);
+        below.reserve(refs.size());
+        above.reserve(refs.size());
         for (const Ref& r : refs) {
             float lo = r.b.lo[axis], hi = r.b.hi[axis];
             if (lo == pos && hi == pos) {
