@@ -23,7 +23,7 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 import caustic_cli
-from ladder import print_table, set_errors
+from ladder import caustic_ladder, print_table, set_errors, settings_at
 
 REPO = Path(__file__).resolve().parent.parent
 REFERENCE_SEED = caustic_cli.REFERENCE_SEED
@@ -42,6 +42,9 @@ def parse_args():
     p.add_argument("--threads", type=int, default=os.cpu_count())
     p.add_argument("--caustic-set", action="append", default=[], metavar="KEY=VALUE",
                    help="a setting for Caustic's timed renders (not its reference), repeatable")
+    p.add_argument("--caustic-rungs", type=lambda v: [int(x) for x in v.split(",")], default=[],
+                   help="comma-separated spp Caustic renders besides the ladder (e.g. 4,8: its "
+                   "time to Cycles' low-spp errors is then interpolated, not extrapolated)")
     p.add_argument("--cache-dir", help="where references are kept (default: the caustic "
                    "binary's build dir /mitsuba_compare, shared with mitsuba_compare.sh)")
     p.add_argument("--smoke", action="store_true", help="32x32, ladder 1,2,4, 16-spp reference")
@@ -264,15 +267,22 @@ def main():
         out = Path(scratch) / "cycles.exr"
         # Untimed warm-ups: Cycles compiles its kernels and builds its BVH on the first render.
         render_cycles(bl, 1, 0, False, out)
-        caustic_cli.render(args, scene_path, min(args.ladder), 0, args.caustic_set, read_exr)
+        mine = caustic_ladder(args)
+        caustic_cli.render(args, scene_path, mine[0], 0, settings_at(args.caustic_set, mine[0]),
+                           read_exr)
         runs = {"caustic": [], "cycles": [], "cycles adaptive": []}
-        for seed, spp in enumerate(sorted(args.ladder)):
-            image, stats, _ = caustic_cli.render(args, scene_path, spp, seed, args.caustic_set,
-                                                 read_exr)
-            runs["caustic"].append({"spp": spp, "image": image,
-                                    "time": stats["render_seconds"] + stats["setup_seconds"]})
+        # Rung by rung, alternating; each rung's seed is its index in its renderer's ladder.
+        for spp in sorted(set(mine) | set(args.ladder)):
+            if spp in mine:
+                image, stats, _ = caustic_cli.render(args, scene_path, spp, mine.index(spp),
+                                                     settings_at(args.caustic_set, spp), read_exr)
+                runs["caustic"].append({"spp": spp, "image": image,
+                                        "time": stats["render_seconds"] + stats["setup_seconds"]})
+            if spp not in args.ladder:
+                continue
             for name, adaptive in (("cycles", False), ("cycles adaptive", True)):
-                image, seconds = render_cycles(bl, spp, seed, adaptive, out)
+                image, seconds = render_cycles(bl, spp, sorted(args.ladder).index(spp), adaptive,
+                                               out)
                 runs[name].append({"spp": spp, "image": image, "time": seconds})
     set_errors(runs, ref, noise2)
     settings = ", ".join(args.caustic_set) or "the scene's"

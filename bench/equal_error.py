@@ -16,7 +16,7 @@ import sys
 
 import caustic_cli
 import mitsuba_compare as mc
-from ladder import print_table, set_errors
+from ladder import caustic_ladder, print_table, set_errors, settings_at
 
 
 def measure(args, scene, scene_path, cache):
@@ -26,16 +26,22 @@ def measure(args, scene, scene_path, cache):
     ref, how, noise2 = caustic_cli.reference(args, scene, scene_path, cache, mc.read_exr,
                                              mc.REFERENCE_SEED)
     load_before = os.getloadavg()[0]
-    # Untimed warm-ups at the lowest rung (a setting such as spp_per_pass may need that many).
-    mc.render_caustic(scene_path, min(args.ladder), 0, args, args.caustic_set)
+    # Untimed warm-ups at the lowest rung.
+    mine = caustic_ladder(args)
+    mc.render_caustic(scene_path, mine[0], 0, args, settings_at(args.caustic_set, mine[0]))
     mc.render_mitsuba(scene, 1, 0, args)
     runs = {"caustic": [], "mitsuba": []}
-    for seed, spp in enumerate(sorted(args.ladder)):
-        image, stats, _ = mc.render_caustic(scene_path, spp, seed, args, args.caustic_set)
-        runs["caustic"].append({"spp": spp, "image": image,
-                                "time": stats["render_seconds"] + stats["setup_seconds"]})
-        image, seconds = mc.render_mitsuba(scene, spp, seed, args)
-        runs["mitsuba"].append({"spp": spp, "image": image, "time": seconds["render"]})
+    # Rung by rung, the two renderers alternating, so that a slow spell hits both; each rung's
+    # seed is its index in its renderer's ladder.
+    for spp in sorted(set(mine) | set(args.ladder)):
+        if spp in mine:
+            image, stats, _ = mc.render_caustic(scene_path, spp, mine.index(spp), args,
+                                                settings_at(args.caustic_set, spp))
+            runs["caustic"].append({"spp": spp, "image": image,
+                                    "time": stats["render_seconds"] + stats["setup_seconds"]})
+        if spp in args.ladder:
+            image, seconds = mc.render_mitsuba(scene, spp, sorted(args.ladder).index(spp), args)
+            runs["mitsuba"].append({"spp": spp, "image": image, "time": seconds["render"]})
     set_errors(runs, ref, noise2)
     report(args, runs, how, math.sqrt(noise2), (load_before, os.getloadavg()[0]))
 

@@ -51,6 +51,10 @@ def parse_args():
     p.add_argument("--caustic-set", action="append", default=[], metavar="KEY=VALUE",
                    help="a setting for Caustic's timed renders (not its reference), repeatable: "
                    "sampler=sobol, spp_per_pass=16")
+    p.add_argument("--caustic-rungs", type=lambda v: [int(x) for x in v.split(",")], default=[],
+                   help="with --ladder: comma-separated spp Caustic renders besides the ladder "
+                   "(e.g. 4,8: its time to Mitsuba's low-spp errors is then interpolated, not "
+                   "extrapolated); spp_per_pass is capped at a rung's spp")
     args = p.parse_args()
     if args.smoke:
         args.size, args.spp, args.ref_spp, args.repeats = 32, 4, 16, 1
