@@ -23,17 +23,12 @@ def cpu_seconds(who):
     return usage.ru_utime + usage.ru_stime
 
 
-def render(args, scene_path, spp, seed, settings, read_exr):
-    """Renders with `caustic render` (path tracing, args.max_depth and args.rr_depth, the
-    settings KEY=VALUE given); returns (image read by read_exr, stats dict, {wall, cpu} seconds of
-    the whole process)."""
+def run(caustic, scene_path, cli_args, read_exr):
+    """Runs `caustic render` on scene_path with the given arguments (settings, presets); returns
+    (image read by read_exr, stats dict, {wall, cpu} seconds of the whole process)."""
     out, stats = scene_path.with_name("render.exr"), scene_path.with_name("stats.json")
-    cmd = [args.caustic, "render", str(scene_path), "-o", str(out), "--stats", str(stats),
-           "--no-progress", "--set", "integrator=path", "--set", f"spp={spp}",
-           "--set", f"seed={seed}", "--set", f"max_depth={args.max_depth}",
-           "--set", f"rr_depth={args.rr_depth}"]
-    for setting in settings:
-        cmd += ["--set", setting]
+    cmd = [caustic, "render", str(scene_path), "-o", str(out), "--stats", str(stats),
+           "--no-progress", *cli_args]
     cpu0, t0 = cpu_seconds(resource.RUSAGE_CHILDREN), time.perf_counter()
     done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if done.returncode != 0:
@@ -41,6 +36,16 @@ def render(args, scene_path, spp, seed, settings, read_exr):
     process = {"wall": time.perf_counter() - t0,
                "cpu": cpu_seconds(resource.RUSAGE_CHILDREN) - cpu0}
     return read_exr(out), json.loads(stats.read_text())["stats"], process
+
+
+def render(args, scene_path, spp, seed, settings, read_exr):
+    """Renders with path tracing, args.max_depth and args.rr_depth, and the settings KEY=VALUE
+    given; returns what run() does."""
+    cli_args = ["--set", "integrator=path", "--set", f"spp={spp}", "--set", f"seed={seed}",
+                "--set", f"max_depth={args.max_depth}", "--set", f"rr_depth={args.rr_depth}"]
+    for setting in settings:
+        cli_args += ["--set", setting]
+    return run(args.caustic, scene_path, cli_args, read_exr)
 
 
 def reference_key(renderer, version, scene, args, seed):
