@@ -51,7 +51,7 @@ std::vector<Config> allConfigs() {
         {"path-adaptive", {{"integrator", "path"}, {"spp_per_pass", 4}, {"adaptive", true}}},
         {"path-sobol-adaptive",
          {{"integrator", "path"}, {"spp_per_pass", 4}, {"sampler", "sobol"}, {"adaptive", true}}},
-        // The preview and final presets' settings (render/presets.cpp).
+        // The preview preset's settings before it took sobol_sequence (render/presets.cpp).
         {"path-sobol-8-adaptive",
          {{"integrator", "path"}, {"spp_per_pass", 8}, {"sampler", "sobol"}, {"adaptive", true}}},
         // Caustics from a progressive caustic photon map (caustics = photon_map): `photons`
@@ -71,6 +71,12 @@ std::vector<Config> allConfigs() {
         // estimate that overestimates (core/sampler.h).
         {"path-sobol-sequence-16",
          {{"integrator", "path"}, {"spp_per_pass", 16}, {"sampler", "sobol_sequence"}}},
+        // The presets' settings: final's (above) and preview's.
+        {"path-sobol-sequence-8-adaptive",
+         {{"integrator", "path"},
+          {"spp_per_pass", 8},
+          {"sampler", "sobol_sequence"},
+          {"adaptive", true}}},
         {"path-sobol-sequence-16-caustic-map",
          {{"integrator", "path"},
           {"spp_per_pass", 16},

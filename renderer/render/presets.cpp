@@ -2,32 +2,41 @@
 
 namespace caustic {
 
-// From the study (docs/study/README.md, 96x96, every example scene, path tracing): the sobol
-// sampler reached each scene's target RMSE 1.16 to 2.84 times sooner than independent numbers with
-// 16 samples per pass; with adaptive sampling and 8 per pass it was the fastest on three scenes
-// (1.41 to 3.41 times path's speed) and within 1.26 times the fastest on the others, but it starves
-// dark pixels (uniform sampling's relative MSE is 0.60 to 0.92 times its). So preview, which must
-// be quick, adapts; final, whose dark corners matter, samples uniformly with 16 per pass; draft
-// stops before adaptive sampling's 8-pass pilot ends. The error target stops each as soon as it is
-// met, spp being a ceiling.
+// From the study (docs/study/README.md, 96x96, every example scene, path tracing). Preview's
+// settings (adaptive sampling from an 8-pass pilot, 8 per pass) reached each scene's target RMSE
+// 1.26 to 5.19 times sooner than path with independent numbers: the fastest of all on the bunny
+// and within 1.10 times the fastest on cornell-box, meshes and indirect (the caustic photon map
+// wins on the glass scenes). But adaptive sampling starves dark pixels (uniform sampling's
+// relative MSE is 0.60 to 0.92 times its), so final, whose dark corners matter, samples uniformly
+// with 16 per pass (1.27 to 3.46 times path's speed); draft stops before the pilot ends. The error
+// target stops each as soon as it is met, spp being a ceiling.
+//
+// All three run one Sobol' sequence through a pixel's passes (sobol_sequence). Each pass is then
+// the same net as with sobol, so the passes' spread, and with it the reported error and the pass
+// at which the target stops a render, are about the same; but the passes fill each other's gaps,
+// so the image is truer than that spread says. Measured at 128x128, 2 seeds, against 4096-spp
+// references (bench/preset_stops.sh, 2026-12-03): on the bunny and cornell-box the true error
+// at the stop is 16 to 29% lower than with sobol, on cornell-spheres (glass) 4 to 5%, with the
+// stop within half a pass of sobol's; the reported error is then 1.04 to 1.39 times the true one,
+// an estimate on the safe side.
 const std::vector<Preset>& presets() {
     static const std::vector<Preset> table = {
         {"draft",
          "A quick look: at most 16 spp, stopping at 10% relative error.",
-         {{"spp", 16}, {"spp_per_pass", 4}, {"sampler", "sobol"}, {"target_error", 0.1}}},
+         {{"spp", 16}, {"spp_per_pass", 4}, {"sampler", "sobol_sequence"}, {"target_error", 0.1}}},
         {"preview",
          "Good enough to judge light and materials: adaptive sampling, at most 256 spp, stopping "
          "at 3%.",
          {{"spp", 256},
           {"spp_per_pass", 8},
-          {"sampler", "sobol"},
+          {"sampler", "sobol_sequence"},
           {"adaptive", true},
           {"target_error", 0.03}}},
         {"final",
          "For the record: uniform sampling, at most 8192 spp, stopping at 1% relative error.",
          {{"spp", 8192},
           {"spp_per_pass", 16},
-          {"sampler", "sobol"},
+          {"sampler", "sobol_sequence"},
           {"adaptive", false},
           {"target_error", 0.01}}},
     };
