@@ -237,7 +237,8 @@ std::vector<SettingSpec> rows() {
                         "per pass); or sobol_sequence (one scrambled Sobol' sequence runs through "
                         "all of a pixel's passes, so the error falls faster than 1/sqrt(spp), as "
                         "Cycles' sampler; the passes are then negatively correlated, so the "
-                        "estimated error is an overestimate, and target_error stops late)."},
+                        "estimated error is an overestimate: target_error stops about where it "
+                        "would with sobol, with a truer image; the presets use it)."},
         {.name = "adaptive",
          .field = field(&R::adaptive),
          .description = "Adaptive sampling: after 8 uniform pilot passes, each pass gives each "
