@@ -5,20 +5,21 @@ relative error it reports (Film::relativeError) and the true one against a long 
 image - reference over RMS of the reference, less the reference's own noise), averaged over seeds.
 The reference takes the scene's settings with `--ref-spp` spp, independent passes of 16 Sobol'
 points (sampler sobol), and no target; its noise is its own squared standard error. Images are read
-with Mitsuba's Bitmap (the bench venv's), as in bench/mitsuba_compare.py."""
+as bench/mitsuba_compare.py reads them."""
 import argparse
 import json
 import math
+import os
 import sys
 import tempfile
 from pathlib import Path
 
-import mitsuba as mi
-import numpy as np
+# numpy's OpenBLAS threads spin after start-up and would take CPU from the timed renders.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import caustic_cli  # noqa: E402
+import numpy as np  # noqa: E402
+from mitsuba_compare import read_exr  # noqa: E402
 
-import caustic_cli
-
-mi.set_variant("scalar_rgb")
 REPO = Path(__file__).resolve().parent.parent
 
 
@@ -32,18 +33,13 @@ def parse_args():
     p.add_argument("--size", type=int, default=128, help="image width and height")
     p.add_argument("--ref-spp", type=int, default=4096)
     p.add_argument("--seeds", type=int, default=2)
-    p.add_argument("--smoke", action="store_true", help="cornell-box, 16x16, draft, 64-spp reference")
+    p.add_argument("--smoke", action="store_true",
+                   help="cornell-box, 16x16, draft, 64-spp reference")
     args = p.parse_args()
     if args.smoke:
         args.scenes, args.presets, args.size, args.ref_spp, args.seeds = (
             "cornell-box", "draft", 16, 64, 1)
     return args
-
-
-def read_exr(path):
-    bitmap = mi.Bitmap(str(path)).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32,
-                                           srgb_gamma=False)
-    return np.array(bitmap, dtype=np.float64)
 
 
 def render(args, scene_path, cli_args):
