@@ -49,14 +49,19 @@ inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
 
 /// owenScramble(sobolSample(index, dimension), seed) for dimension 0 or 1, computed in the
 /// bit-reversed domain the scramble works in: Sobol's first dimension reversed is the index
-/// itself, and the second's reversed columns are 1, 3, 5, 15, ... (r' = r ^ (r << 1)). The same
-/// bits, two or three bit reversals fewer.
+/// itself. The second's reversed column k is (1 + x)^k over GF(2), whose bit j is C(k, j) mod 2,
+/// which is 1 exactly when j's bits are a subset of k's (Lucas' theorem). So bit j of the point is
+/// the XOR of the index bits k that are supersets of j: a superset transform in five shift-and-XOR
+/// steps, one per bit of j, in place of a loop over the index's (up to 32, shuffled) bits whose
+/// branches cannot be predicted. The same bits, two or three bit reversals fewer.
 inline uint32_t owenScrambledSobol(uint32_t index, int dimension, uint32_t seed) {
     uint32_t reversed = index;
     if (dimension == 1) {
-        reversed = 0;
-        for (uint32_t column = 1; index != 0; index >>= 1, column ^= column << 1)
-            if (index & 1u) reversed ^= column;
+        reversed ^= (reversed >> 1) & 0x55555555u;
+        reversed ^= (reversed >> 2) & 0x33333333u;
+        reversed ^= (reversed >> 4) & 0x0f0f0f0fu;
+        reversed ^= (reversed >> 8) & 0x00ff00ffu;
+        reversed ^= (reversed >> 16) & 0x0000ffffu;
     }
     return reverseBits(laineKarrasPermutation(reversed, seed));
 }
