@@ -9,7 +9,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#include <type_traits>
 
 namespace caustic {
 
@@ -40,6 +42,16 @@ inline bool isBlack(const Color& c) {
 }
 inline float maxComponent(const Vec3& v) {
     return std::max(v.x, std::max(v.y, v.z));
+}
+/// Component i (0, 1 or 2) of v by one indexed load. glm's operator[] is a switch on i: a branch
+/// that mispredicts wherever i changes from call to call, as a kd-tree node's axis does. (Reading
+/// the bytes of a trivially copyable object is defined; x, y, z are adjacent floats.)
+inline float component(const Vec3& v, int i) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(float) && std::is_trivially_copyable_v<Vec3>);
+    float c;
+    std::memcpy(&c, reinterpret_cast<const unsigned char*>(&v) + sizeof(float) * size_t(i),
+                sizeof c);
+    return c;
 }
 
 /// Bound on the relative error of n chained float operations: gamma(n) = n u / (1 - n u), with

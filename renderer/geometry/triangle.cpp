@@ -98,12 +98,12 @@ std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax
                                              const Vec3& p1, const Vec3& p2) {
     // Translate the vertices to the ray origin and permute so that the ray's largest direction
     // component is z.
-    // (Components are picked from memory by index: permuting a vector held in registers would
-    // spill it to the stack on every test.)
+    // (Components are loaded from memory by index: permuting a vector held in registers would
+    // spill it to the stack on every test, and glm's operator[] would branch on the index.)
     const int kx = wr.kx, ky = wr.ky, kz = wr.kz;
-    Vec3 p0t(p0[kx] - wr.ox, p0[ky] - wr.oy, p0[kz] - wr.oz);
-    Vec3 p1t(p1[kx] - wr.ox, p1[ky] - wr.oy, p1[kz] - wr.oz);
-    Vec3 p2t(p2[kx] - wr.ox, p2[ky] - wr.oy, p2[kz] - wr.oz);
+    Vec3 p0t(component(p0, kx) - wr.ox, component(p0, ky) - wr.oy, component(p0, kz) - wr.oz);
+    Vec3 p1t(component(p1, kx) - wr.ox, component(p1, ky) - wr.oy, component(p1, kz) - wr.oz);
+    Vec3 p2t(component(p2, kx) - wr.ox, component(p2, ky) - wr.oy, component(p2, kz) - wr.oz);
 
     // Shear so that the ray runs along +z.
     const float sx = wr.sx, sy = wr.sy, sz = wr.sz;

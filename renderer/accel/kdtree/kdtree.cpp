@@ -31,8 +31,14 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
     if (nodes_.empty()) return false;
     Vec3 invDir = 1.0f / ray.d;
     const WatertightRay wr(ray);
-    float tMin = 0.0f, tEnd = tMax;
-    if (!clipToBox(bounds_, ray, invDir, tMin, tEnd)) return false;
+    float tEnter = 0.0f, tExit = tMax;
+    if (!clipToBox(bounds_, ray, invDir, tEnter, tExit)) return false;
+    // Locals whose address is never taken, and the arrays' data pointers, which stores through
+    // `best` could otherwise alias: the loop keeps them in registers instead of reloading them.
+    float tMin = tEnter, tEnd = tExit;
+    const Node* nodes = nodes_.data();
+    const uint32_t* primIndices = primIndices_.data();
+    const TriangleVertices* triangles = triangles_.empty() ? nullptr : triangles_.data();
 
     struct Todo {
         uint32_t node;
@@ -46,10 +52,10 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
     while (true) {
         // Everything left lies beyond the closest hit.
         if (closest < tMin * (1.0f - kSlack)) break;
-        const Node& node = nodes_[index];
+        const Node& node = nodes[index];
         if (!node.isLeaf()) {
             int axis = node.axis();
-            float o = ray.o[axis], d = ray.d[axis], split = node.split;
+            float o = component(ray.o, axis), d = component(ray.d, axis), split = node.split;
             uint32_t below = index + 1, above = node.aboveChild();
             if (d == 0.0f) {
                 // Parallel to the plane: the side the ray runs on; both when it runs in it.
@@ -63,7 +69,7 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
                 }
                 continue;
             }
-            float tPlane = (split - o) * invDir[axis];
+            float tPlane = (split - o) * component(invDir, axis);
             bool belowFirst = o < split || (o == split && d <= 0.0f);
             uint32_t first = belowFirst ? below : above, second = belowFirst ? above : below;
             if (tPlane > tEnd * (1.0f + kSlack) || tPlane <= 0.0f) {
@@ -82,13 +88,12 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
         uint32_t count = node.primCount();
         // Not &primIndices_[offset]: an empty leaf's offset may be the end of the array, or the
         // array empty when every other leaf holds one primitive, and indexing there is undefined.
-        const uint32_t* prims = count == 1 ? &node.onePrim : primIndices_.data() + node.primOffset;
+        const uint32_t* prims = count == 1 ? &node.onePrim : primIndices + node.primOffset;
         for (uint32_t i = 0; i < count; ++i) {
             const uint32_t prim = prims[i];
-            const TriangleVertices* v =
-                triangles_.empty() || geometry_.kind(prim) != PrimKind::Triangle
-                    ? nullptr
-                    : &triangles_[prim];
+            const TriangleVertices* v = !triangles || geometry_.kind(prim) != PrimKind::Triangle
+                                            ? nullptr
+                                            : &triangles[prim];
             if (auto h = v ? Geometry::intersectVertices(wr, closest, v->p0, v->p1, v->p2)
                            : geometry_.intersect(prim, wr, closest)) {
                 if constexpr (AnyHit) return true;
