@@ -132,7 +132,14 @@ void EmbreeAccel::attach(RTCGeometry g, std::vector<uint32_t> prims, const char*
     unsigned id = rtcAttachGeometry(scene_.get(), g);
     rtcReleaseGeometry(g);
     primsByGeometry_.resize(id + 1);
-    primsByGeometry_[id] = std::move(prims);
+    GeometryPrims& mapped = primsByGeometry_[id];
+    mapped.first = prims.empty() ? 0 : prims[0];
+    for (size_t k = 0; k < prims.size(); ++k) {
+        if (prims[k] != mapped.first + k) {
+            mapped.table = std::move(prims);
+            break;
+        }
+    }
     throwIfError(what);
 }
 
@@ -167,7 +174,8 @@ void EmbreeAccel::addSpheres() {
 }
 
 uint32_t EmbreeAccel::primOf(unsigned geomID, unsigned primID) const {
-    return primsByGeometry_[geomID][primID];
+    const GeometryPrims& g = primsByGeometry_[geomID];
+    return g.table.empty() ? g.first + primID : g.table[primID];
 }
 
 std::optional<Hit> EmbreeAccel::intersect(const Ray& ray, float tMax) const {
@@ -195,7 +203,7 @@ bool EmbreeAccel::occluded(const Ray& ray, float tMax) const {
 size_t EmbreeAccel::memoryBytes() const {
     // What the device holds (BVH and vertex buffers, as its monitor reports), and our index.
     size_t index = 0;
-    for (const auto& prims : primsByGeometry_) index += prims.capacity() * sizeof(uint32_t);
+    for (const GeometryPrims& g : primsByGeometry_) index += g.table.capacity() * sizeof(uint32_t);
     return size_t(std::max<int64_t>(0, deviceBytes_.load())) + index +
            spherePrims_.capacity() * sizeof(uint32_t);
 }

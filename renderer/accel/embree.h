@@ -55,8 +55,14 @@ private:
     std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
     std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;
     std::string error_;  // last message from the device's error callback
-    // Embree geometry ID -> the scene primitive index of each of its primitives.
-    std::vector<std::vector<uint32_t>> primsByGeometry_;
+    // Embree geometry ID -> the scene primitive index of each of its primitives: `first` plus the
+    // Embree primitive ID when they are consecutive (a mesh's triangles, and every kind of a scene
+    // that lists its shapes by kind), which saves a cache miss a hit; else looked up in `table`.
+    struct GeometryPrims {
+        uint32_t first = 0;
+        std::vector<uint32_t> table;
+    };
+    std::vector<GeometryPrims> primsByGeometry_;
     std::vector<uint32_t> spherePrims_;
     Bounds3 bounds_;
 };

@@ -31,9 +31,9 @@ void quadTriangle(const Quad& q, bool second, Vec3& p0, Vec3& p1, Vec3& p2) {
 }  // namespace
 
 uint32_t Geometry::push(PrimKind kind, uint32_t local, uint32_t material) {
-    kind_.push_back(kind);
-    local_.push_back(local);
-    material_.push_back(material);
+    CAUSTIC_CHECK_LT(local, 1u << PrimRecord::kLocalBits);
+    prims_.push_back(
+        PrimRecord{(static_cast<uint32_t>(kind) << PrimRecord::kLocalBits) | local, material});
     return size() - 1;
 }
 
@@ -65,9 +65,10 @@ uint32_t Geometry::addTriangles(const std::vector<Vec3>& positions,
 }
 
 Bounds3 Geometry::bounds(uint32_t prim) const {
-    uint32_t i = local_[prim];
+    const PrimRecord r = prims_[prim];
+    const uint32_t i = r.local();
     Bounds3 b;
-    switch (kind_[prim]) {
+    switch (r.kind()) {
         case PrimKind::Sphere:
             return spheres_[i].bounds();
         case PrimKind::Quad:
@@ -94,8 +95,9 @@ Bounds3 Geometry::bounds() const {
 std::optional<PrimHit> Geometry::intersect(uint32_t prim, const WatertightRay& wr,
                                            float tMax) const {
     const Ray& ray = wr.ray;
-    uint32_t i = local_[prim];
-    switch (kind_[prim]) {
+    const PrimRecord r = prims_[prim];
+    const uint32_t i = r.local();
+    switch (r.kind()) {
         case PrimKind::Sphere:
             if (auto t = spheres_[i].intersect(ray, tMax)) return PrimHit{*t, Vec2(0.0f)};
             return std::nullopt;
@@ -118,8 +120,9 @@ std::optional<PrimHit> Geometry::intersect(uint32_t prim, const WatertightRay& w
 
 Hit Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
     Hit hit{h.t, prim, h.uv, Vec3(0.0f)};
-    uint32_t i = local_[prim];
-    switch (kind_[prim]) {
+    const PrimRecord r = prims_[prim];
+    const uint32_t i = r.local();
+    switch (r.kind()) {
         case PrimKind::Sphere: {
             // No uv: nothing shades by it yet, and its atan2 and acos cost ~2% of a path
             // tracer's time (Sphere::uv computes it when needed).
@@ -144,9 +147,10 @@ SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {
     si.n = hit.n;
     si.uv = hit.uv;
     si.prim = hit.prim;
-    si.material = material_[hit.prim];
-    uint32_t i = local_[hit.prim];
-    switch (kind_[hit.prim]) {
+    const PrimRecord r = prims_[hit.prim];
+    si.material = r.material;
+    const uint32_t i = r.local();
+    switch (r.kind()) {
         case PrimKind::Sphere:
             spheres_[i].hitPoint(ray, hit.t, si.p, si.pError);
             break;
@@ -170,8 +174,9 @@ SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {
 }
 
 float Geometry::area(uint32_t prim) const {
-    uint32_t i = local_[prim];
-    switch (kind_[prim]) {
+    const PrimRecord r = prims_[prim];
+    const uint32_t i = r.local();
+    switch (r.kind()) {
         case PrimKind::Sphere:
             return spheres_[i].area();
         case PrimKind::Quad:
@@ -186,9 +191,10 @@ float Geometry::area(uint32_t prim) const {
 }
 
 SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
-    uint32_t i = local_[prim];
+    const PrimRecord r = prims_[prim];
+    const uint32_t i = r.local();
     SurfaceSample s;
-    switch (kind_[prim]) {
+    switch (r.kind()) {
         case PrimKind::Sphere:
             return spheres_[i].sample(u);
         case PrimKind::Quad: {
@@ -217,9 +223,7 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
 }
 
 void Geometry::shrinkToFit() {
-    kind_.shrink_to_fit();
-    local_.shrink_to_fit();
-    material_.shrink_to_fit();
+    prims_.shrink_to_fit();
     spheres_.shrink_to_fit();
     quads_.shrink_to_fit();
     positions_.shrink_to_fit();
@@ -227,8 +231,7 @@ void Geometry::shrinkToFit() {
 }
 
 size_t Geometry::memoryBytes() const {
-    return kind_.capacity() * sizeof(PrimKind) + local_.capacity() * sizeof(uint32_t) +
-           material_.capacity() * sizeof(uint32_t) + spheres_.capacity() * sizeof(Sphere) +
+    return prims_.capacity() * sizeof(PrimRecord) + spheres_.capacity() * sizeof(Sphere) +
            quads_.capacity() * sizeof(Quad) + meshBytes();
 }
 

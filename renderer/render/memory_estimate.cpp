@@ -77,7 +77,7 @@ Counts countScene(const Scene& scene) {
 
 size_t geometryBytes(const Scene& scene, const Counts& c) {
     // The loader shrinks every array to its size (Geometry::shrinkToFit).
-    return c.prims * (sizeof(PrimKind) + 2 * sizeof(uint32_t)) +
+    return c.prims * sizeof(Geometry::PrimRecord) +
            scene.geometry.spheres().size() * sizeof(Sphere) +
            scene.geometry.quads().size() * sizeof(Quad) + c.vertices * sizeof(Vec3) +
            c.triangles * sizeof(glm::uvec3);
