@@ -51,6 +51,13 @@ def parse_args():
     p.add_argument("--caustic-set", action="append", default=[], metavar="KEY=VALUE",
                    help="a setting for Caustic's timed renders (not its reference), repeatable: "
                    "sampler=sobol, spp_per_pass=16")
+    p.add_argument("--mitsuba-sampler", default="independent",
+                   choices=["independent", "stratified", "multijitter", "orthogonal", "ldsampler"],
+                   help="Mitsuba's sampler for its timed renders (its reference keeps "
+                   "independent). All but independent round the spp up (ldsampler to a power of "
+                   "4, stratified and multijitter to about a square, orthogonal to a prime's "
+                   "square): use a ladder such as 16,64,256, or read a rung's spp as a label, "
+                   "since its time and error are the rounded render's")
     p.add_argument("--caustic-rungs", type=lambda v: [int(x) for x in v.split(",")], default=[],
                    help="with --ladder: comma-separated spp Caustic renders besides the ladder "
                    "(e.g. 4,8: its time to Mitsuba's low-spp errors is then interpolated, not "
@@ -128,7 +135,7 @@ def shape(s, materials):
     return out
 
 
-def mitsuba_dict(scene, spp, max_depth, rr_depth):
+def mitsuba_dict(scene, spp, max_depth, rr_depth, sampler="independent"):
     """The Mitsuba scene. Mitsuba's max_depth counts path segments (1: emitters seen directly),
     Caustic's counts scattering events (1: direct light), hence the + 1. rr_depth means the same
     in both: roulette starts after that many scattering events."""
@@ -142,16 +149,18 @@ def mitsuba_dict(scene, spp, max_depth, rr_depth):
                         origin=cam["position"], target=cam["look_at"], up=cam.get("up", [0, 1, 0])),
                     "film": {"type": "hdrfilm", "width": cam["width"], "height": cam["height"],
                              "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-                    "sampler": {"type": "independent", "sample_count": spp}}}
+                    "sampler": {"type": sampler, "sample_count": spp}}}
     for i, s in enumerate(scene["shapes"]):
         d[f"shape{i}"] = shape(s, scene["materials"])
     return d
 
 
-def render_mitsuba(scene, spp, seed, args):
-    """Returns (image, {load, render, cpu} seconds); cpu covers the load and the render."""
+def render_mitsuba(scene, spp, seed, args, sampler=None):
+    """Returns (image, {load, render, cpu} seconds); cpu covers the load and the render. The
+    sampler is --mitsuba-sampler's unless given."""
     cpu0, t0 = caustic_cli.cpu_seconds(resource.RUSAGE_SELF), time.perf_counter()
-    loaded = mi.load_dict(mitsuba_dict(scene, spp, args.max_depth, args.rr_depth))
+    loaded = mi.load_dict(mitsuba_dict(scene, spp, args.max_depth, args.rr_depth,
+                                       sampler or args.mitsuba_sampler))
     t1 = time.perf_counter()
     image = np.array(mi.render(loaded, spp=spp, seed=seed), dtype=np.float64)
     t2 = time.perf_counter()
@@ -179,7 +188,7 @@ def reference(renderer, scene, scene_path, cache, args):
     if path.exists():
         return np.load(path), "cached"
     t0 = time.perf_counter()
-    image = render_mitsuba(scene, args.ref_spp, REFERENCE_SEED, args)[0]
+    image = render_mitsuba(scene, args.ref_spp, REFERENCE_SEED, args, sampler="independent")[0]
     np.save(path, image)
     return image, f"rendered in {time.perf_counter() - t0:.0f} s"
 
@@ -304,7 +313,7 @@ Differences that remain (both estimators are unbiased, so both converge to the s
 - Emitter choice: Caustic by power, Mitsuba uniformly (one emitter in cornell-spheres: the same).
 - Caustic renders in passes ({stats['passes']} of {stats['spp'] // stats['passes']} spp here) to \
 estimate its own error; Mitsuba in one.
-- Random numbers: Caustic's PCG32 per sample vs Mitsuba's independent sampler.""")
+- Random numbers: Caustic's `sampler` setting vs Mitsuba's {args.mitsuba_sampler} sampler.""")
 
 
 if __name__ == "__main__":
