@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,9 +48,20 @@ tinygltf::Model loadModel(std::string_view bytes, const MeshErrors& errors) {
     tinygltf::Model model;
     std::string err, warn;
     // checkGlbContainer checked the length against the header's 32-bit field.
-    if (!loader.LoadBinaryFromMemory(&model, &err, &warn,
-                                     reinterpret_cast<const unsigned char*>(bytes.data()),
-                                     static_cast<unsigned int>(bytes.size()))) {
+    bool loaded = false;
+    try {
+        loaded = loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                             reinterpret_cast<const unsigned char*>(bytes.data()),
+                                             static_cast<unsigned int>(bytes.size()));
+    } catch (const std::out_of_range&) {
+        // tinygltf indexes some arrays with at(): a scene whose roots name nodes that the file
+        // does not have threw here (a fuzzing finding). A malformed upload is an error, not a
+        // crash.
+        err = "an index in the document names an element that does not exist";
+    } catch (const std::exception& e) {
+        err = e.what();
+    }
+    if (!loaded) {
         err = err.substr(0, err.find('\n'));
         errors.fail("glTF: " + (err.empty() ? std::string("tinygltf cannot read it") : err));
     }

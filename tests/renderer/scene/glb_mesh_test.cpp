@@ -283,6 +283,22 @@ TEST(MeshFileGlb, NodeHierarchyIsChecked) {
                      "node 1: matrix has 3 numbers, not 16");
 }
 
+TEST(MeshFileGlb, WhatTheReaderThrowsIsAnError) {
+    // tinygltf reads a scene's roots from the nodes array with at(): a scene naming node 0 of a
+    // file without nodes threw std::out_of_range through the loader (a fuzzing finding, kept in
+    // tests/fuzz/mesh/scene-roots-without-nodes.chunks).
+    const std::string json = R"({"accessors":[{"bufferView":0,"componentType":5126,"count":4,)"
+                             R"("max":[1,1,0],"min":[0,0,0],"type":"VEC3"},{"bufferView":1,)"
+                             R"("componentType":5123,"count":6,"type":"SCALAR"}],)"
+                             R"("asset":{"version":"2.0"},"bufferViews":[{"buffer":0,)"
+                             R"("byteLength":48,"byteOffset":0},{"buffer":0,"byteLength":12,)"
+                             R"("byteOffset":48}],"buffers":[{"byteLength":0,"scale":[2,2,2],)"
+                             R"("translation":[10,0,0]}],"scene":0,"scenes":[{"nodes":[0]}]})";
+    const std::string bin(48 + 12, '\0');
+    EXPECT_GLB_ERROR(testing::glbFromChunks(json, bin),
+                     "glTF: an index in the document names an element that does not exist");
+}
+
 TEST(MeshFileGlb, InstancesAreBoundedBeforeAnyIsRead) {
     // 3072 unindexed positions make 3072 + 1024 = 2^12 elements per instance: 2^13 instances
     // reach kMaxGlbElements, one more passes it.
