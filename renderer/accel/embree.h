@@ -56,8 +56,9 @@ private:
     std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;
     std::string error_;  // last message from the device's error callback
     // Embree geometry ID -> the scene primitive index of each of its primitives: `first` plus the
-    // Embree primitive ID when they are consecutive (a mesh's triangles, and every kind of a scene
-    // that lists its shapes by kind), which saves a cache miss a hit; else looked up in `table`.
+    // Embree primitive ID when they are consecutive (one geometry holds every primitive of a kind,
+    // so a kind's are when no other shape lies between them in the scene: one mesh's triangles
+    // always), which saves a cache miss a hit; else looked up in `table`.
     struct GeometryPrims {
         uint32_t first = 0;
         std::vector<uint32_t> table;

@@ -413,5 +413,27 @@ TEST(AcceleratorCrossCheck, AdversarialCases) {
     crossCheck(g, kMillion, kMillion, 5);
 }
 
+TEST(AcceleratorCrossCheck, ShapesOfEachKindInterleaved) {
+    // Quads, meshes and spheres alternating, so that no kind's primitives are consecutive: Embree
+    // must then map its primitive IDs through its table (the comparisons check the primitive).
+    Geometry g;
+    Rng rng(6);
+    for (int round = 0; round < 3; ++round) {
+        const Vec3 shift(1.5f * float(round), 0.0f, 0.0f);
+        g.addQuad(shift + Vec3(-0.5f, -0.5f, -1.0f), Vec3(1, 0, 0), Vec3(0, 1, 0), 0);
+        std::vector<Vec3> p;
+        std::vector<glm::uvec3> tris;
+        for (uint32_t i = 0; i < 50; ++i) {
+            Vec3 c = shift + Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - 0.5f;
+            for (int k = 0; k < 3; ++k)
+                p.push_back(c + 0.2f * (Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - 0.5f));
+            tris.push_back(glm::uvec3(3 * i, 3 * i + 1, 3 * i + 2));
+        }
+        g.addTriangles(p, tris, 0);
+        g.addSphere(Sphere{shift + Vec3(0.0f, 0.0f, 1.0f), 0.3f}, 0);
+    }
+    crossCheck(g, 200000, 200000, 7);
+}
+
 }  // namespace
 }  // namespace caustic
