@@ -54,10 +54,9 @@ tinygltf::Model loadModel(std::string_view bytes, const MeshErrors& errors) {
                                              reinterpret_cast<const unsigned char*>(bytes.data()),
                                              static_cast<unsigned int>(bytes.size()));
     } catch (const std::out_of_range&) {
-        // tinygltf indexes some arrays with at(): a scene whose roots name nodes that the file
-        // does not have threw here (a fuzzing finding). A malformed upload is an error, not a
-        // crash.
-        err = "an index in the document names an element that does not exist";
+        // tinygltf reads some arrays with at(): a buffer declaring 0 bytes, with views into it,
+        // threw here (a fuzzing finding). A malformed upload is an error, not a crash.
+        err = "an index or a byte range in the document points outside what the file holds";
     } catch (const std::exception& e) {
         err = e.what();
     }

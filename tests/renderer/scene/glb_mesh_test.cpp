@@ -284,9 +284,10 @@ TEST(MeshFileGlb, NodeHierarchyIsChecked) {
 }
 
 TEST(MeshFileGlb, WhatTheReaderThrowsIsAnError) {
-    // tinygltf reads a scene's roots from the nodes array with at(): a scene naming node 0 of a
-    // file without nodes threw std::out_of_range through the loader (a fuzzing finding, kept in
-    // tests/fuzz/mesh/scene-roots-without-nodes.chunks).
+    // tinygltf reads some arrays with at(): this file's buffer declares 0 bytes and has views into
+    // it, which threw std::out_of_range through the loader (a fuzzing finding, kept in
+    // tests/fuzz/mesh/empty-buffer-with-views.chunks; with the buffer's true length it reads,
+    // and the missing node is reported instead).
     const std::string json = R"({"accessors":[{"bufferView":0,"componentType":5126,"count":4,)"
                              R"("max":[1,1,0],"min":[0,0,0],"type":"VEC3"},{"bufferView":1,)"
                              R"("componentType":5123,"count":6,"type":"SCALAR"}],)"
@@ -296,7 +297,8 @@ TEST(MeshFileGlb, WhatTheReaderThrowsIsAnError) {
                              R"("translation":[10,0,0]}],"scene":0,"scenes":[{"nodes":[0]}]})";
     const std::string bin(48 + 12, '\0');
     EXPECT_GLB_ERROR(testing::glbFromChunks(json, bin),
-                     "glTF: an index in the document names an element that does not exist");
+                     "glTF: an index or a byte range in the document points outside what the file "
+                     "holds");
 }
 
 TEST(MeshFileGlb, InstancesAreBoundedBeforeAnyIsRead) {
