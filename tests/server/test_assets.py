@@ -264,6 +264,10 @@ BAD_FILES = [
     ("polygon of 257 corners", OBJ,
      b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf" + b" 1 2 3" * 85 + b" 1 2\n", "257 corners"),
     ("GLB of 65537 nodes", GLB, glb_with(nodes=[{}] * 65537), "65537 nodes"),
+    # A fuzzing finding: tinygltf threw std::out_of_range for a buffer of 0 bytes with views (a
+    # 500 then); tests/fuzz/mesh/empty-buffer-with-views.chunks.
+    ("GLB buffer of 0 bytes with views", GLB, glb_with(buffers=[{"byteLength": 0}]),
+     "outside what the file holds"),
     ("GLB lines, not triangles", GLB,
      glb_with(meshes=[{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1,
                                        "mode": 1}]}]), "mode"),
