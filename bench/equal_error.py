@@ -49,7 +49,8 @@ def measure(args, scene, scene_path, cache):
 def report(args, runs, how, ref_noise, loads):
     settings = ", ".join(args.caustic_set) or "the scene's"
     print(f"{os.path.basename(args.scene)}, {args.size}x{args.size}, every core for both; "
-          f"Caustic `path` with settings {settings}; Mitsuba `path`, {args.mitsuba_sampler} sampler; "
+          f"Caustic `path` with settings {settings}; "
+          f"Mitsuba `path`, {args.mitsuba_sampler} sampler; "
           f"Caustic max_depth {args.max_depth} = Mitsuba max_depth {args.max_depth + 1}, "
           f"rr_depth {args.rr_depth}. Reference: Caustic, {args.ref_spp} spp, {how}; its own "
           f"noise, {ref_noise:.5f} RMSE, is taken out of every RMSE. Load average (1 min) "

@@ -135,7 +135,7 @@ def shape(s, materials):
     return out
 
 
-def mitsuba_dict(scene, spp, max_depth, rr_depth, sampler="independent"):
+def mitsuba_dict(scene, spp, max_depth, rr_depth, sampler):
     """The Mitsuba scene. Mitsuba's max_depth counts path segments (1: emitters seen directly),
     Caustic's counts scattering events (1: direct light), hence the + 1. rr_depth means the same
     in both: roulette starts after that many scattering events."""
