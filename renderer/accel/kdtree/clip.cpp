@@ -21,7 +21,8 @@ struct Polygon {
         for (int i = 0; i < n; ++i) {
             const Vec3& a = v[i];
             const Vec3& b = v[(i + 1) % n];
-            float da = sign * (a[axis] - plane), db = sign * (b[axis] - plane);
+            float da = sign * (component(a, axis) - plane),
+                  db = sign * (component(b, axis) - plane);
             if (da >= 0.0f) out[m++] = a;
             if ((da < 0.0f) != (db < 0.0f)) {
                 Vec3 p = a + (b - a) * (da / (da - db));

@@ -1,0 +1,157 @@
+#include "accel/kdtree/split.h"
+
+#include <algorithm>
+#include <cstdint>
+
+#include "core/check.h"
+
+namespace caustic {
+namespace {
+
+constexpr int kBins = 32;
+
+glm::dvec3 diagonalD(const Bounds3& b) {
+    return glm::dvec3(b.hi) - glm::dvec3(b.lo);
+}
+
+// The bin of a position scaled to [0, kBins), clamped in double before the conversion to int,
+// which is undefined for NaN and out-of-range values.
+int binOf(double scaled) {
+    return scaled >= 0.0 ? int(std::min(scaled, double(kBins - 1))) : 0;
+}
+
+// The SAH cost of splitting `box` on one axis, with what it needs computed once per node and
+// axis rather than once per candidate plane (a node of n references has 2n of them).
+class SplitCost {
+public:
+    SplitCost(const KdTreeOptions& options, const Bounds3& box, int axis)
+        : options_(options), lo_(box.lo[axis]), hi_(box.hi[axis]) {
+        const glm::dvec3 d = diagonalD(box);
+        const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
+        const double invArea = 1.0 / surfaceAreaD(box);
+        cap_ = 2.0 * d[o1] * d[o2] * invArea;
+        ring_ = 2.0 * (d[o1] + d[o2]) * invArea;
+    }
+    double operator()(float pos, size_t nBelow, size_t nAbove) const {
+        const double below = cap_ + (double(pos) - lo_) * ring_;
+        const double above = cap_ + (hi_ - double(pos)) * ring_;
+        const double bonus = (nBelow == 0 || nAbove == 0) ? options_.emptyBonus : 0.0;
+        return options_.traversalCost + options_.intersectCost * (1.0 - bonus) *
+                                            (below * double(nBelow) + above * double(nAbove));
+    }
+
+private:
+    const KdTreeOptions& options_;
+    double lo_, hi_, cap_ = 0, ring_ = 0;
+};
+
+}  // namespace
+
+double surfaceAreaD(const Bounds3& b) {
+    if (b.empty()) return 0.0;
+    glm::dvec3 d = diagonalD(b);
+    return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+}
+
+// Counts each axis' starts and ends per bin in one pass over the references (each is read once,
+// not once per axis), then sweeps every axis' bin edges.
+KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
+                        const KdTreeOptions& options) {
+    double lo[3], extent[3], scale[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        lo[axis] = box.lo[axis];
+        extent[axis] = double(box.hi[axis]) - lo[axis];
+        scale[axis] = extent[axis] > 0.0 ? kBins / extent[axis] : 0.0;
+    }
+    size_t starts[3][kBins] = {}, ends[3][kBins] = {};
+    for (const KdRef& r : refs) {
+        for (int axis = 0; axis < 3; ++axis) {
+            ++starts[axis][binOf((component(r.b.lo, axis) - lo[axis]) * scale[axis])];
+            ++ends[axis][binOf((component(r.b.hi, axis) - lo[axis]) * scale[axis])];
+        }
+    }
+    KdSplit best;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!(extent[axis] > 0.0)) continue;
+        const SplitCost cost(options, box, axis);
+        size_t nBelow = 0, nAbove = refs.size();
+        for (int i = 1; i < kBins; ++i) {
+            nBelow += starts[axis][i - 1];
+            nAbove -= ends[axis][i - 1];
+            auto pos = float(lo[axis] + extent[axis] * i / kBins);
+            // A box a few floats wide has bin edges that round onto its faces.
+            if (!(pos > box.lo[axis] && pos < box.hi[axis])) continue;
+            double c = cost(pos, nBelow, nAbove);
+            if (c < best.cost) best = KdSplit{axis, pos, c};
+        }
+    }
+    return best;
+}
+
+// The sweep of pbrt-v3 4.4.2 visits the 2n boundaries in sorted order, starts before ends at equal
+// positions, and keeps the first of equal costs. Here each boundary's counts come from comparisons
+// with all the others instead: a start s is preceded by the starts below it (and those equal to it
+// and earlier in the array) and by the ends strictly below it; an end e by the starts at or below
+// it and the ends below it (and those equal and earlier). That is 4n^2 comparisons per axis for at
+// most 64 references, made a boundary per vector lane, in place of two sorts and a merge whose
+// branches mispredict on every other boundary. The sweep position breaks ties between equal costs,
+// so the split is the sweep's.
+KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
+                       const KdTreeOptions& options) {
+    const auto n = uint32_t(refs.size());
+    CAUSTIC_CHECK_LE(n, kExactSplitLimit);
+    // Padded to whole vectors with +infinity, which no count includes, so the loops over lanes
+    // run without a remainder.
+    constexpr uint32_t kLanes = 16;
+    const uint32_t padded = (n + kLanes - 1) / kLanes * kLanes;
+    alignas(64) float starts[kExactSplitLimit], ends[kExactSplitLimit];
+    alignas(64) uint32_t startsBeforeStart[kExactSplitLimit], endsBeforeStart[kExactSplitLimit],
+        startsBeforeEnd[kExactSplitLimit], endsBeforeEnd[kExactSplitLimit];
+    KdSplit best;
+    for (int axis = 0; axis < 3; ++axis) {
+        const float lo = box.lo[axis], hi = box.hi[axis];
+        if (!(hi > lo)) continue;
+        for (uint32_t i = 0; i < padded; ++i) {
+            starts[i] = i < n ? component(refs[i].b.lo, axis) : kInfinity;
+            ends[i] = i < n ? component(refs[i].b.hi, axis) : kInfinity;
+            startsBeforeStart[i] = endsBeforeStart[i] = startsBeforeEnd[i] = endsBeforeEnd[i] = 0;
+        }
+        for (uint32_t j = 0; j < n; ++j) {
+            const float sj = starts[j], ej = ends[j];
+            for (uint32_t i = 0; i < padded; ++i) {
+                const float s = starts[i], e = ends[i];
+                startsBeforeStart[i] += (sj < s || (sj == s && j < i)) ? 1u : 0u;
+                endsBeforeStart[i] += ej < s ? 1u : 0u;
+                startsBeforeEnd[i] += sj <= e ? 1u : 0u;
+                endsBeforeEnd[i] += (ej < e || (ej == e && j < i)) ? 1u : 0u;
+            }
+        }
+        // The cheapest boundary strictly inside the box, the first in the sweep of equal ones.
+        const SplitCost cost(options, box, axis);
+        double axisCost = best.cost;
+        float axisPos = 0.0f;
+        uint32_t axisOrder = 0;
+        bool found = false;
+        auto consider = [&](float pos, uint32_t nBelow, uint32_t nAbove, uint32_t order) {
+            if (!(pos > lo && pos < hi)) return;
+            const double c = cost(pos, nBelow, nAbove);
+            if (c < axisCost || (found && c == axisCost && order < axisOrder)) {
+                axisCost = c;
+                axisPos = pos;
+                axisOrder = order;
+                found = true;
+            }
+        };
+        for (uint32_t i = 0; i < n; ++i) {
+            consider(starts[i], startsBeforeStart[i], n - endsBeforeStart[i],
+                     startsBeforeStart[i] + endsBeforeStart[i]);
+            // The end itself has passed when the sweep evaluates it.
+            consider(ends[i], startsBeforeEnd[i], n - endsBeforeEnd[i] - 1,
+                     startsBeforeEnd[i] + endsBeforeEnd[i]);
+        }
+        if (found) best = KdSplit{axis, axisPos, axisCost};
+    }
+    return best;
+}
+
+}  // namespace caustic

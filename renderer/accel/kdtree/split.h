@@ -1,0 +1,41 @@
+// The surface area heuristic's choice of a split plane for a node of the kd-tree's build.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <span>
+
+#include "accel/kdtree/kdtree.h"
+#include "core/bounds.h"
+
+namespace caustic {
+
+/// A primitive's reference in a node of the build: its bounds clipped to the node's box.
+struct KdRef {
+    Bounds3 b;
+    uint32_t prim;
+};
+
+struct KdSplit {
+    int axis = -1;  ///< -1: no plane inside the box
+    float pos = 0.0f;
+    double cost = std::numeric_limits<double>::infinity();
+};
+
+/// Nodes of more references than this choose among bin edges, smaller ones among every boundary.
+inline constexpr size_t kExactSplitLimit = 64;
+
+/// Area of a box, in double: float coordinates of a box can lie up to 2 FLT_MAX apart (a sphere of
+/// radius 3e38), and the area overflows float from 1.8e19 on.
+double surfaceAreaD(const Bounds3& b);
+
+/// The cheapest split of `box` by the SAH among 32 bin edges per axis (Popov et al. 2006,
+/// "Experiences with Streaming Construction of SAH KD-Trees"): O(n).
+KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
+                        const KdTreeOptions& options);
+/// The cheapest split among every reference's boundaries (pbrt-v3 4.4.2), for at most
+/// kExactSplitLimit references.
+KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
+                       const KdTreeOptions& options);
+
+}  // namespace caustic
