@@ -107,6 +107,8 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
     alignas(64) float starts[kExactSplitLimit], ends[kExactSplitLimit];
     alignas(64) uint32_t startsBeforeStart[kExactSplitLimit], endsBeforeStart[kExactSplitLimit],
         startsBeforeEnd[kExactSplitLimit], endsBeforeEnd[kExactSplitLimit];
+    alignas(64) double startCost[kExactSplitLimit], endCost[kExactSplitLimit];
+    constexpr double kInfinityD = std::numeric_limits<double>::infinity();
     KdSplit best;
     for (int axis = 0; axis < 3; ++axis) {
         const float lo = box.lo[axis], hi = box.hi[axis];
@@ -114,27 +116,44 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
         for (uint32_t i = 0; i < padded; ++i) {
             starts[i] = i < n ? component(refs[i].b.lo, axis) : kInfinity;
             ends[i] = i < n ? component(refs[i].b.hi, axis) : kInfinity;
-            startsBeforeStart[i] = endsBeforeStart[i] = startsBeforeEnd[i] = endsBeforeEnd[i] = 0;
         }
-        for (uint32_t j = 0; j < n; ++j) {
-            const float sj = starts[j], ej = ends[j];
-            for (uint32_t i = 0; i < padded; ++i) {
-                const float s = starts[i], e = ends[i];
-                startsBeforeStart[i] += (sj < s || (sj == s && j < i)) ? 1u : 0u;
-                endsBeforeStart[i] += ej < s ? 1u : 0u;
-                startsBeforeEnd[i] += sj <= e ? 1u : 0u;
-                endsBeforeEnd[i] += (ej < e || (ej == e && j < i)) ? 1u : 0u;
+        // A block of 16 boundaries at a time, its four counts in registers.
+        for (uint32_t i0 = 0; i0 < padded; i0 += kLanes) {
+            uint32_t sBeforeS[kLanes] = {}, eBeforeS[kLanes] = {}, sBeforeE[kLanes] = {},
+                     eBeforeE[kLanes] = {};
+            for (uint32_t j = 0; j < n; ++j) {
+                const float sj = starts[j], ej = ends[j];
+                for (uint32_t l = 0; l < kLanes; ++l) {
+                    const float s = starts[i0 + l], e = ends[i0 + l];
+                    const bool earlier = j < i0 + l;
+                    sBeforeS[l] += (sj < s || (sj == s && earlier)) ? 1u : 0u;
+                    eBeforeS[l] += ej < s ? 1u : 0u;
+                    sBeforeE[l] += sj <= e ? 1u : 0u;
+                    eBeforeE[l] += (ej < e || (ej == e && earlier)) ? 1u : 0u;
+                }
+            }
+            for (uint32_t l = 0; l < kLanes; ++l) {
+                startsBeforeStart[i0 + l] = sBeforeS[l];
+                endsBeforeStart[i0 + l] = eBeforeS[l];
+                startsBeforeEnd[i0 + l] = sBeforeE[l];
+                endsBeforeEnd[i0 + l] = eBeforeE[l];
             }
         }
-        // The cheapest boundary strictly inside the box, the first in the sweep of equal ones.
+        // Every boundary's cost, +infinity outside the box (never chosen), then the cheapest, the
+        // first in the sweep of equal ones. The end itself has passed when the sweep evaluates it.
         const SplitCost cost(options, box, axis);
+        for (uint32_t i = 0; i < n; ++i) {
+            const float s = starts[i], e = ends[i];
+            startCost[i] = s > lo && s < hi ? cost(s, startsBeforeStart[i], n - endsBeforeStart[i])
+                                            : kInfinityD;
+            endCost[i] = e > lo && e < hi ? cost(e, startsBeforeEnd[i], n - endsBeforeEnd[i] - 1)
+                                          : kInfinityD;
+        }
         double axisCost = best.cost;
         float axisPos = 0.0f;
         uint32_t axisOrder = 0;
         bool found = false;
-        auto consider = [&](float pos, uint32_t nBelow, uint32_t nAbove, uint32_t order) {
-            if (!(pos > lo && pos < hi)) return;
-            const double c = cost(pos, nBelow, nAbove);
+        auto consider = [&](double c, float pos, uint32_t order) {
             if (c < axisCost || (found && c == axisCost && order < axisOrder)) {
                 axisCost = c;
                 axisPos = pos;
@@ -143,11 +162,8 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
             }
         };
         for (uint32_t i = 0; i < n; ++i) {
-            consider(starts[i], startsBeforeStart[i], n - endsBeforeStart[i],
-                     startsBeforeStart[i] + endsBeforeStart[i]);
-            // The end itself has passed when the sweep evaluates it.
-            consider(ends[i], startsBeforeEnd[i], n - endsBeforeEnd[i] - 1,
-                     startsBeforeEnd[i] + endsBeforeEnd[i]);
+            consider(startCost[i], starts[i], startsBeforeStart[i] + endsBeforeStart[i]);
+            consider(endCost[i], ends[i], startsBeforeEnd[i] + endsBeforeEnd[i]);
         }
         if (found) best = KdSplit{axis, axisPos, axisCost};
     }
