@@ -71,7 +71,7 @@ public:
         rootArea_ = surfaceAreaD(box);
         int maxDepth = options_.maxDepth > 0
                            ? options_.maxDepth
-                           : int(std::lround(8 + 1.3 * std::log2(std::max<uint32_t>(n, 1))));
+                           : int(std::lround(6 + 1.3 * std::log2(std::max<uint32_t>(n, 1))));
         maxDepth = std::min(maxDepth, KdTreeAccel::kMaxDepth);
 
         TopNode root;
