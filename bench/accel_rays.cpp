@@ -37,10 +37,16 @@ const std::vector<std::string> kMeshNames = {"bunny", "teapot", "bunny-1m"};
 struct Options {
     int repeats = 3;
     std::vector<std::string> meshes = kMeshNames;
-    int side = 512;              // primary rays: side x side pixels, one ray each
-    size_t randomRays = 262144;  // random rays
-    size_t bruteRays = 16384;    // at most this many rays per set for bruteforce
+    int side = 512;                 // primary rays: side x side pixels, one ray each
+    size_t randomRays = 262144;     // random rays
+    size_t bruteRays = 16384;       // at most this many rays per set for bruteforce
+    std::vector<int> kdtreeDepths;  // kd-trees with these depth limits, beside the default one
 };
+
+// The name of the kd-tree built with depth limit `depth` (KdTreeOptions::maxDepth).
+std::string depthVariant(int depth) {
+    return "kdtree depth " + std::to_string(depth);
+}
 
 // Parses the command line into `o`; returns -1 to run, else the exit code.
 int parseArgs(int argc, char** argv, Options& o) {
@@ -54,6 +60,14 @@ int parseArgs(int argc, char** argv, Options& o) {
         ->check(CLI::IsMember(kMeshNames))
         ->type_name("LIST")
         ->capture_default_str();
+    app.add_option(
+           "--kdtree-depths", o.kdtreeDepths,
+           "Also build kd-trees with these depth limits (KdTreeOptions::maxDepth), "
+           "comma-separated, timed in the same interleaved rounds: a table gives each one's "
+           "cost over the default kd-tree's")
+        ->delimiter(',')
+        ->check(CLI::Range(1, KdTreeAccel::kMaxDepth))
+        ->type_name("LIST");
     if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
     if (smoke) {
         o.repeats = 1;
@@ -219,6 +233,7 @@ struct MeshResult {
     std::map<std::string, std::vector<double>> buildSeconds;
     std::map<std::string, size_t> memory;
     KdTreeStats kd;
+    std::map<std::string, uint32_t> variantNodes;  // nodes of each depth variant
     std::vector<SetAgreement> agreement;
     std::vector<RayRow> rows;
 };
@@ -235,6 +250,7 @@ MeshResult runMesh(const std::string& name, const Options& opt, int allThreads) 
     r.geometryBytes = geometry.memoryBytes();
     r.accels = {"kdtree", "embree"};
     if (name == "teapot") r.accels.push_back("bruteforce");
+    for (int depth : opt.kdtreeDepths) r.accels.push_back(depthVariant(depth));
 
     // Build each accelerator --repeats times, interleaved; keep the last of each.
     std::map<std::string, std::unique_ptr<Accelerator>> accel;
@@ -242,11 +258,19 @@ MeshResult runMesh(const std::string& name, const Options& opt, int allThreads) 
         for (const std::string& a : r.accels) {
             accel[a].reset();
             auto start = std::chrono::steady_clock::now();
-            accel[a] = createAccelerator(a, geometry);
+            accel[a] = a.starts_with("kdtree depth ")
+                           ? std::make_unique<KdTreeAccel>(
+                                 geometry, KdTreeOptions{.maxDepth = std::stoi(a.substr(13))})
+                           : createAccelerator(a, geometry);
             r.buildSeconds[a].push_back(secondsSince(start));
         }
     for (const std::string& a : r.accels) r.memory[a] = accel[a]->memoryBytes();
     r.kd = dynamic_cast<const KdTreeAccel&>(*accel["kdtree"]).stats();
+    for (int depth : opt.kdtreeDepths) {
+        const KdTreeStats& s =
+            dynamic_cast<const KdTreeAccel&>(*accel[depthVariant(depth)]).stats();
+        r.variantNodes[depthVariant(depth)] = s.interiorNodes + s.leaves;
+    }
 
     const std::vector<std::pair<std::string, std::vector<Ray>>> sets = {
         {"primary", primaryRays(opt.side)},
@@ -355,6 +379,30 @@ void printTables(const std::vector<MeshResult>& results, const Options& opt, int
                                    row.bestRaysPerSecond("kdtree"))
                       << " |\n";
         }
+
+    if (!opt.kdtreeDepths.empty()) {
+        std::cout << "\n### kd-tree depth limits: cost relative to the default kd-tree (> 1: "
+                     "slower), medians of the same interleaved rounds\n\n"
+                  << "| mesh | kd-tree | nodes | build |";
+        for (const RayRow& row : results.front().rows)
+            std::cout << " " << row.kind << " "
+                      << (row.query == Query::Closest ? "closest" : "occluded") << " "
+                      << row.threads << "T |";
+        std::cout << "\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        for (const MeshResult& r : results)
+            for (int depth : opt.kdtreeDepths) {
+                const std::string a = depthVariant(depth);
+                std::cout << "| " << r.name << " | " << a << " | " << r.variantNodes.at(a) << " | "
+                          << ratioCell(median(r.buildSeconds.at(a)) /
+                                       median(r.buildSeconds.at("kdtree")))
+                          << " |";
+                for (const RayRow& row : r.rows)
+                    std::cout << " "
+                              << ratioCell(row.raysPerSecond("kdtree") / row.raysPerSecond(a))
+                              << " |";
+                std::cout << "\n";
+            }
+    }
 
     std::cout << "\n### Sanity: hit or miss per ray, kdtree against embree (primary must agree on "
                  ">= 99.9%)\n\n| mesh | rays | count | kdtree hits | embree hits | agreement |\n"
