@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "accel/accelerator.h"
@@ -45,6 +46,12 @@ public:
     Bounds3 bounds() const override { return bounds_; }
     size_t memoryBytes() const override;
     const KdTreeStats& stats() const { return stats_; }
+
+    struct Node;
+    /// The tree as built, depth first, and the primitive indices its leaves point into: for tests
+    /// that the build is deterministic.
+    std::span<const Node> nodes() const { return nodes_; }
+    std::span<const uint32_t> primIndices() const { return primIndices_; }
 
     /// A node: 4 bytes of split position or primitive reference, 4 bytes of flags and counts.
     struct Node {
