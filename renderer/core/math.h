@@ -53,6 +53,10 @@ inline float component(const Vec3& v, int i) {
                 sizeof c);
     return c;
 }
+/// Sets component i (0, 1 or 2) of v by one indexed store, for the same reason.
+inline void setComponent(Vec3& v, int i, float c) {
+    std::memcpy(reinterpret_cast<unsigned char*>(&v) + sizeof(float) * size_t(i), &c, sizeof c);
+}
 
 /// Bound on the relative error of n chained float operations: gamma(n) = n u / (1 - n u), with
 /// u = 2^-24 the unit roundoff (pbrt-v4, section 6.8.1).

@@ -1,6 +1,5 @@
 #include "accel/kdtree/clip.h"
 
-#include <cstring>
 #include <utility>
 
 namespace caustic {
@@ -26,8 +25,7 @@ int clipPolygon(const Vec3* in, int n, Vec3* out, int axis, float plane, float s
         if ((da < 0.0f) != (db < 0.0f)) {
             Vec3 p = a + (b - a) * (da / (da - db));
             // Exactly on the plane, whatever the rounding.
-            std::memcpy(reinterpret_cast<unsigned char*>(&p) + sizeof(float) * size_t(axis), &plane,
-                        sizeof plane);
+            setComponent(p, axis, plane);
             out[m++] = p;
         }
         a = b;
