@@ -2,7 +2,8 @@
 # Installs what is needed, builds, and runs the whole test suite. This is the README's test command
 # and what CI runs. Three build folders: the normal build and its tests; the C++ unit tests again,
 # built by clang under AddressSanitizer and UndefinedBehaviorSanitizer; the fuzz targets, built by
-# clang too, each run for a minute (cmake/sanitize.cmake, tests/fuzz/README.md). Every stage runs; any failure fails.
+# clang too, each run for a minute (cmake/sanitize.cmake, tests/fuzz/README.md). Every stage runs;
+# any failure fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
