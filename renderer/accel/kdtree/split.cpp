@@ -25,23 +25,28 @@ int binOf(double scaled) {
 class SplitCost {
 public:
     SplitCost(const KdTreeOptions& options, const Bounds3& box, int axis)
-        : options_(options), lo_(box.lo[axis]), hi_(box.hi[axis]) {
+        : traversal_(options.traversalCost),
+          intersect_(options.intersectCost),
+          emptyBonus_(options.emptyBonus),
+          lo_(box.lo[axis]),
+          hi_(box.hi[axis]) {
         const glm::dvec3 d = diagonalD(box);
         const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
         const double invArea = 1.0 / surfaceAreaD(box);
         cap_ = 2.0 * d[o1] * d[o2] * invArea;
         ring_ = 2.0 * (d[o1] + d[o2]) * invArea;
     }
-    double operator()(float pos, size_t nBelow, size_t nAbove) const {
+    // Without branches, so that a loop over candidates vectorizes.
+    double operator()(float pos, uint32_t nBelow, uint32_t nAbove) const {
         const double below = cap_ + (double(pos) - lo_) * ring_;
         const double above = cap_ + (hi_ - double(pos)) * ring_;
-        const double bonus = (nBelow == 0 || nAbove == 0) ? options_.emptyBonus : 0.0;
-        return options_.traversalCost + options_.intersectCost * (1.0 - bonus) *
-                                            (below * double(nBelow) + above * double(nAbove));
+        const double bonus = double((nBelow == 0) | (nAbove == 0)) * emptyBonus_;
+        return traversal_ +
+               intersect_ * (1.0 - bonus) * (below * double(nBelow) + above * double(nAbove));
     }
 
 private:
-    const KdTreeOptions& options_;
+    double traversal_, intersect_, emptyBonus_;
     double lo_, hi_, cap_ = 0, ring_ = 0;
 };
 
@@ -63,7 +68,7 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
         extent[axis] = double(box.hi[axis]) - lo[axis];
         scale[axis] = extent[axis] > 0.0 ? kBins / extent[axis] : 0.0;
     }
-    size_t starts[3][kBins] = {}, ends[3][kBins] = {};
+    uint32_t starts[3][kBins] = {}, ends[3][kBins] = {};
     for (const KdRef& r : refs) {
         for (int axis = 0; axis < 3; ++axis) {
             ++starts[axis][binOf((component(r.b.lo, axis) - lo[axis]) * scale[axis])];
@@ -74,7 +79,7 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
     for (int axis = 0; axis < 3; ++axis) {
         if (!(extent[axis] > 0.0)) continue;
         const SplitCost cost(options, box, axis);
-        size_t nBelow = 0, nAbove = refs.size();
+        uint32_t nBelow = 0, nAbove = uint32_t(refs.size());
         for (int i = 1; i < kBins; ++i) {
             nBelow += starts[axis][i - 1];
             nAbove -= ends[axis][i - 1];
@@ -90,12 +95,15 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
 
 // The sweep of pbrt-v3 4.4.2 visits the 2n boundaries in sorted order, starts before ends at equal
 // positions, and keeps the first of equal costs. Here each boundary's counts come from comparisons
-// with all the others instead: a start s is preceded by the starts below it (and those equal to it
-// and earlier in the array) and by the ends strictly below it; an end e by the starts at or below
-// it and the ends below it (and those equal and earlier). That is 4n^2 comparisons per axis for at
-// most 64 references, made a boundary per vector lane, in place of two sorts and a merge whose
-// branches mispredict on every other boundary. The sweep position breaks ties between equal costs,
-// so the split is the sweep's.
+// with all the others instead: a start s is preceded by the starts and the ends strictly below it,
+// an end e by the starts at or below it and the ends at or below it but itself. Boundaries of
+// equal kind and position need no order among them: the sweep's cost rises with each start of such
+// a run (one more reference below) and falls with each end (one fewer above), so it keeps the
+// run's first start and last end, and these counts give every member of a run exactly that one's
+// counts, sweep position and cost. That is 4n^2 comparisons per axis for at most 64 references,
+// made a boundary per vector lane, in place of two sorts and a merge whose branches mispredict on
+// every other boundary. The sweep position breaks ties between equal costs, so the split is the
+// sweep's.
 KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
                        const KdTreeOptions& options) {
     const auto n = uint32_t(refs.size());
@@ -125,29 +133,29 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
                 const float sj = starts[j], ej = ends[j];
                 for (uint32_t l = 0; l < kLanes; ++l) {
                     const float s = starts[i0 + l], e = ends[i0 + l];
-                    const bool earlier = j < i0 + l;
-                    sBeforeS[l] += (sj < s || (sj == s && earlier)) ? 1u : 0u;
+                    sBeforeS[l] += sj < s ? 1u : 0u;
                     eBeforeS[l] += ej < s ? 1u : 0u;
                     sBeforeE[l] += sj <= e ? 1u : 0u;
-                    eBeforeE[l] += (ej < e || (ej == e && earlier)) ? 1u : 0u;
+                    eBeforeE[l] += ej <= e ? 1u : 0u;
                 }
             }
             for (uint32_t l = 0; l < kLanes; ++l) {
                 startsBeforeStart[i0 + l] = sBeforeS[l];
                 endsBeforeStart[i0 + l] = eBeforeS[l];
                 startsBeforeEnd[i0 + l] = sBeforeE[l];
-                endsBeforeEnd[i0 + l] = eBeforeE[l];
+                endsBeforeEnd[i0 + l] = eBeforeE[l] - 1;  // not itself
             }
         }
         // Every boundary's cost, +infinity outside the box (never chosen), then the cheapest, the
         // first in the sweep of equal ones. The end itself has passed when the sweep evaluates it.
         const SplitCost cost(options, box, axis);
+#pragma omp simd
         for (uint32_t i = 0; i < n; ++i) {
             const float s = starts[i], e = ends[i];
-            startCost[i] = s > lo && s < hi ? cost(s, startsBeforeStart[i], n - endsBeforeStart[i])
-                                            : kInfinityD;
-            endCost[i] = e > lo && e < hi ? cost(e, startsBeforeEnd[i], n - endsBeforeEnd[i] - 1)
-                                          : kInfinityD;
+            const double sc = cost(s, startsBeforeStart[i], n - endsBeforeStart[i]);
+            const double ec = cost(e, startsBeforeEnd[i], n - endsBeforeEnd[i] - 1);
+            startCost[i] = (s > lo) & (s < hi) ? sc : kInfinityD;
+            endCost[i] = (e > lo) & (e < hi) ? ec : kInfinityD;
         }
         double axisCost = best.cost;
         float axisPos = 0.0f;
