@@ -113,19 +113,23 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
     constexpr uint32_t kLanes = 16;
     const uint32_t padded = (n + kLanes - 1) / kLanes * kLanes;
     alignas(64) float starts[kExactSplitLimit], ends[kExactSplitLimit];
-    alignas(64) uint32_t startsBeforeStart[kExactSplitLimit], endsBeforeStart[kExactSplitLimit],
-        startsBeforeEnd[kExactSplitLimit], endsBeforeEnd[kExactSplitLimit];
+    // A boundary's cost and its position in the sweep (the count of its predecessors).
     alignas(64) double startCost[kExactSplitLimit], endCost[kExactSplitLimit];
+    alignas(64) uint32_t startOrder[kExactSplitLimit], endOrder[kExactSplitLimit];
     constexpr double kInfinityD = std::numeric_limits<double>::infinity();
     KdSplit best;
     for (int axis = 0; axis < 3; ++axis) {
         const float lo = box.lo[axis], hi = box.hi[axis];
         if (!(hi > lo)) continue;
-        for (uint32_t i = 0; i < padded; ++i) {
-            starts[i] = i < n ? component(refs[i].b.lo, axis) : kInfinity;
-            ends[i] = i < n ? component(refs[i].b.hi, axis) : kInfinity;
+        for (uint32_t i = 0; i < n; ++i) {
+            starts[i] = component(refs[i].b.lo, axis);
+            ends[i] = component(refs[i].b.hi, axis);
         }
-        // A block of 16 boundaries at a time, its four counts in registers.
+        for (uint32_t i = n; i < padded; ++i) starts[i] = ends[i] = kInfinity;
+        const SplitCost cost(options, box, axis);
+        // A block of 16 boundaries at a time: its four counts in registers, then their costs,
+        // +infinity outside the box (never chosen; nor is the padding, +infinity). The end itself
+        // has passed when the sweep evaluates it.
         for (uint32_t i0 = 0; i0 < padded; i0 += kLanes) {
             uint32_t sBeforeS[kLanes] = {}, eBeforeS[kLanes] = {}, sBeforeE[kLanes] = {},
                      eBeforeE[kLanes] = {};
@@ -140,23 +144,18 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
                 }
             }
             for (uint32_t l = 0; l < kLanes; ++l) {
-                startsBeforeStart[i0 + l] = sBeforeS[l];
-                endsBeforeStart[i0 + l] = eBeforeS[l];
-                startsBeforeEnd[i0 + l] = sBeforeE[l];
-                endsBeforeEnd[i0 + l] = eBeforeE[l] - 1;  // not itself
+                const uint32_t i = i0 + l;
+                const float s = starts[i], e = ends[i];
+                const uint32_t endsBeforeEnd = eBeforeE[l] - 1;  // not itself
+                const double sc = cost(s, sBeforeS[l], n - eBeforeS[l]);
+                const double ec = cost(e, sBeforeE[l], n - endsBeforeEnd - 1);
+                startCost[i] = (s > lo) & (s < hi) ? sc : kInfinityD;
+                endCost[i] = (e > lo) & (e < hi) ? ec : kInfinityD;
+                startOrder[i] = sBeforeS[l] + eBeforeS[l];
+                endOrder[i] = sBeforeE[l] + endsBeforeEnd;
             }
         }
-        // Every boundary's cost, +infinity outside the box (never chosen), then the cheapest, the
-        // first in the sweep of equal ones. The end itself has passed when the sweep evaluates it.
-        const SplitCost cost(options, box, axis);
-#pragma omp simd
-        for (uint32_t i = 0; i < n; ++i) {
-            const float s = starts[i], e = ends[i];
-            const double sc = cost(s, startsBeforeStart[i], n - endsBeforeStart[i]);
-            const double ec = cost(e, startsBeforeEnd[i], n - endsBeforeEnd[i] - 1);
-            startCost[i] = (s > lo) & (s < hi) ? sc : kInfinityD;
-            endCost[i] = (e > lo) & (e < hi) ? ec : kInfinityD;
-        }
+        // The cheapest, the first in the sweep of equal ones.
         double axisCost = best.cost;
         float axisPos = 0.0f;
         uint32_t axisOrder = 0;
@@ -170,8 +169,8 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
             }
         };
         for (uint32_t i = 0; i < n; ++i) {
-            consider(startCost[i], starts[i], startsBeforeStart[i] + endsBeforeStart[i]);
-            consider(endCost[i], ends[i], startsBeforeEnd[i] + endsBeforeEnd[i]);
+            consider(startCost[i], starts[i], startOrder[i]);
+            consider(endCost[i], ends[i], endOrder[i]);
         }
         if (found) best = KdSplit{axis, axisPos, axisCost};
     }
