@@ -1,6 +1,6 @@
 #include "accel/kdtree/clip.h"
 
-#include <utility>
+#include <algorithm>
 
 namespace caustic {
 namespace {
@@ -34,6 +34,34 @@ int clipPolygon(const Vec3* in, int n, Vec3* out, int axis, float plane, float s
     return m;
 }
 
+// A convex polygon being clipped plane by plane.
+struct Polygon {
+    Vec3 v[12];
+    int n = 0;
+
+    // Keeps the part with sign * (p[axis] - plane) >= 0. Only a plane that cuts the primitive's
+    // own bounds `own` can clip it (a straddling reference usually crosses one or two of a box's
+    // six): the others would copy the polygon unchanged.
+    void clip(const Bounds3& own, int axis, float plane, float sign) {
+        const bool cuts =
+            sign > 0.0f ? component(own.lo, axis) < plane : component(own.hi, axis) > plane;
+        if (!cuts || n == 0) return;
+        Vec3 out[12];
+        n = clipPolygon(v, n, out, axis, plane, sign);
+        std::copy(out, out + n, v);
+    }
+
+    // Its bounds grown by the rounding error of the interpolation (a few ulps of the coordinates)
+    // and by `fuzz`, kept inside `box`; empty when nothing is left.
+    Bounds3 bounds(float fuzz, const Bounds3& box) const {
+        Bounds3 b;
+        for (int k = 0; k < n; ++k) b.extend(v[k]);
+        if (b.empty()) return b;
+        Vec3 slack = gamma(4) * glm::max(glm::abs(b.lo), glm::abs(b.hi)) + Vec3(fuzz);
+        return overlap(Bounds3{b.lo - slack, b.hi + slack}, box);
+    }
+};
+
 }  // namespace
 
 Bounds3 fuzzyBounds(const Geometry& geometry, uint32_t prim) {
@@ -46,50 +74,47 @@ float magnitudeSlack(const Bounds3& b) {
     return 4.0f * gamma(3) * maxComponent(glm::max(glm::abs(b.lo), glm::abs(b.hi)));
 }
 
-Bounds3 clipPrimitive(const Geometry& geometry, uint32_t prim, const Bounds3& box) {
-    PrimKind kind = geometry.kind(prim);
-    if (kind == PrimKind::Sphere) return overlap(fuzzyBounds(geometry, prim), box);
-    Vec3 buffers[2][12];
-    Vec3* poly = buffers[0];
-    Vec3* spare = buffers[1];
-    int n = 0;
-    uint32_t i = geometry.localIndex(prim);
+void clipPrimitiveToChildren(const Geometry& geometry, uint32_t prim, const Bounds3& box, int axis,
+                             float pos, Bounds3& below, Bounds3& above) {
+    Bounds3 belowBox = box, aboveBox = box;
+    setComponent(belowBox.hi, axis, pos);
+    setComponent(aboveBox.lo, axis, pos);
+    const PrimKind kind = geometry.kind(prim);
+    if (kind == PrimKind::Sphere) {
+        const Bounds3 b = fuzzyBounds(geometry, prim);
+        below = overlap(b, belowBox);
+        above = overlap(b, aboveBox);
+        return;
+    }
+    Polygon poly;
+    const uint32_t i = geometry.localIndex(prim);
     if (kind == PrimKind::Quad) {
-        for (const Vec3& v : geometry.quads()[i].v) poly[n++] = v;
+        for (const Vec3& v : geometry.quads()[i].v) poly.v[poly.n++] = v;
     } else {
         const glm::uvec3& t = geometry.triangles()[i];
-        for (int k = 0; k < 3; ++k) poly[n++] = geometry.positions()[t[k]];
+        for (int k = 0; k < 3; ++k) poly.v[poly.n++] = geometry.positions()[t[k]];
     }
     // These bounds are the primitive's own (Geometry::bounds extends them by the same vertices).
     Bounds3 own;
-    for (int k = 0; k < n; ++k) own.extend(poly[k]);
+    for (int k = 0; k < poly.n; ++k) own.extend(poly.v[k]);
     // The float intersection test sees a primitive only to a few ulps of its own coordinates: clip
-    // against the box grown by that much, and grow the result by it, so that no reference is
-    // dropped from a node where the test would hit it.
+    // against each child box grown by that much, and grow the result by it, so that no reference
+    // is dropped from a node where the test would hit it. The four planes the children share are
+    // clipped once; each side then takes its two on the split axis. The vertices that clipping
+    // interpolates stay within the own bounds but for rounding, which the slack covers.
     const float fuzz = magnitudeSlack(own);
-    const Bounds3 grown{box.lo - Vec3(fuzz), box.hi + Vec3(fuzz)};
-    // Only the planes that cut the primitive's own bounds can clip it (a straddling reference
-    // usually crosses one or two of the six): the others would copy the polygon unchanged. The
-    // vertices that clipping interpolates stay within those bounds but for rounding, which the
-    // slack below covers.
-    for (int axis = 0; axis < 3 && n > 0; ++axis) {
-        const float lo = component(grown.lo, axis), hi = component(grown.hi, axis);
-        if (component(own.lo, axis) < lo) {
-            n = clipPolygon(poly, n, spare, axis, lo, 1.0f);
-            std::swap(poly, spare);
-        }
-        if (n > 0 && component(own.hi, axis) > hi) {
-            n = clipPolygon(poly, n, spare, axis, hi, -1.0f);
-            std::swap(poly, spare);
-        }
+    for (int a = 0; a < 3; ++a) {
+        if (a == axis) continue;
+        poly.clip(own, a, component(box.lo, a) - fuzz, 1.0f);
+        poly.clip(own, a, component(box.hi, a) + fuzz, -1.0f);
     }
-    Bounds3 b;
-    for (int k = 0; k < n; ++k) b.extend(poly[k]);
-    if (b.empty()) return b;
-    // Grow by the rounding error of the interpolation (a few ulps of the coordinates), then keep
-    // it inside the box.
-    Vec3 slack = gamma(4) * glm::max(glm::abs(b.lo), glm::abs(b.hi)) + Vec3(fuzz);
-    return overlap(Bounds3{b.lo - slack, b.hi + slack}, box);
+    Polygon side = poly;
+    side.clip(own, axis, component(box.lo, axis) - fuzz, 1.0f);
+    side.clip(own, axis, pos + fuzz, -1.0f);
+    below = side.bounds(fuzz, belowBox);
+    poly.clip(own, axis, pos - fuzz, 1.0f);
+    poly.clip(own, axis, component(box.hi, axis) + fuzz, -1.0f);
+    above = poly.bounds(fuzz, aboveBox);
 }
 
 }  // namespace caustic

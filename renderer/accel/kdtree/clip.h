@@ -15,9 +15,11 @@ float magnitudeSlack(const Bounds3& b);
 /// A primitive's bounds grown by its magnitude slack.
 Bounds3 fuzzyBounds(const Geometry& geometry, uint32_t prim);
 
-/// Conservative bounds of primitive ∩ box, grown by a few ulps so that rounding in the clipping
-/// never loses a sliver of the primitive; empty when the primitive misses the box. Spheres use
+/// Conservative bounds of the primitive's parts in the two children of `box` split by the plane at
+/// `pos` on `axis`, below and above it, each grown by a few ulps so that rounding in the clipping
+/// never loses a sliver of the primitive; empty where the primitive misses a child. Spheres use
 /// their bounding box.
-Bounds3 clipPrimitive(const Geometry& geometry, uint32_t prim, const Bounds3& box);
+void clipPrimitiveToChildren(const Geometry& geometry, uint32_t prim, const Bounds3& box, int axis,
+                             float pos, Bounds3& below, Bounds3& above);
 
 }  // namespace caustic

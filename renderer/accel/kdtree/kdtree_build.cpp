@@ -98,24 +98,33 @@ private:
         return split;
     }
 
-    // Appends to `out` the references of one side of the plane: those overlapping it, clipped to
-    // that side's box. `out` must not reallocate while it runs if `refs` lies in it.
-    void appendSide(std::span<const KdRef> refs, const Bounds3& box, int axis, float pos,
-                    bool isAbove, std::vector<KdRef>& out) const {
-        const Bounds3 child = childBox(box, axis, pos, isAbove);
+    // Appends to `below` and `above` the references of each side of the plane: those overlapping
+    // it, clipped to that side's box (a straddling primitive is clipped once for both). Neither
+    // may reallocate while it runs if `refs` lies in it.
+    void partition(std::span<const KdRef> refs, const Bounds3& box, int axis, float pos,
+                   std::vector<KdRef>& below, std::vector<KdRef>& above) const {
         for (const KdRef& r : refs) {
-            float lo = component(r.b.lo, axis), hi = component(r.b.hi, axis);
+            const float lo = component(r.b.lo, axis), hi = component(r.b.hi, axis);
             if (lo == pos && hi == pos) {
                 // Lying in the plane: both sides, so rays in or through the plane find it.
-                out.push_back(r);
-            } else if (isAbove ? lo >= pos : hi <= pos) {
-                out.push_back(r);
-            } else if (isAbove ? hi > pos : lo < pos) {
-                Bounds3 clipped = options_.clipPrimitives ? clipPrimitive(geometry_, r.prim, child)
-                                                          : Bounds3{glm::max(r.b.lo, child.lo),
-                                                                    glm::min(r.b.hi, child.hi)};
-                clipped = Bounds3{glm::max(clipped.lo, r.b.lo), glm::min(clipped.hi, r.b.hi)};
-                if (!clipped.empty()) out.push_back(KdRef{clipped, r.prim});
+                below.push_back(r);
+                above.push_back(r);
+            } else if (hi <= pos) {
+                below.push_back(r);
+            } else if (lo >= pos) {
+                above.push_back(r);
+            } else {
+                Bounds3 b, a;
+                if (options_.clipPrimitives) {
+                    clipPrimitiveToChildren(geometry_, r.prim, box, axis, pos, b, a);
+                } else {
+                    b = childBox(box, axis, pos, false);
+                    a = childBox(box, axis, pos, true);
+                }
+                b = Bounds3{glm::max(b.lo, r.b.lo), glm::min(b.hi, r.b.hi)};
+                a = Bounds3{glm::max(a.lo, r.b.lo), glm::min(a.hi, r.b.hi)};
+                if (!b.empty()) below.push_back(KdRef{b, r.prim});
+                if (!a.empty()) above.push_back(KdRef{a, r.prim});
             }
         }
     }
@@ -142,9 +151,10 @@ private:
             if (stack_.capacity() < top + 2 * n)
                 stack_.reserve(std::max(2 * stack_.capacity(), top + 2 * n));
             const std::span<const KdRef> refs(stack_.data() + begin, n);
-            b_.appendSide(refs, box, split.axis, split.pos, false, stack_);
+            above_.clear();
+            b_.partition(refs, box, split.axis, split.pos, stack_, above_);
             const size_t mid = stack_.size();
-            b_.appendSide(refs, box, split.axis, split.pos, true, stack_);
+            stack_.insert(stack_.end(), above_.begin(), above_.end());
             const size_t last = stack_.size();
             // A split that moved nothing is a loop: stop.
             if (mid - top == n && last - mid == n) {
@@ -188,6 +198,7 @@ private:
         const KdTreeBuilder& b_;
         Subtree& out_;
         std::vector<KdRef> stack_;
+        std::vector<KdRef> above_;  // a partition's above side, before it joins the stack
     };
 
     double areaRatio(const Bounds3& box) const {
@@ -213,8 +224,7 @@ private:
         if (split.axis >= 0) {
             below.reserve(n);
             above.reserve(n);
-            appendSide(refs, box, split.axis, split.pos, false, below);
-            appendSide(refs, box, split.axis, split.pos, true, above);
+            partition(refs, box, split.axis, split.pos, below, above);
         }
         // A leaf, or a split that moved nothing: the serial build decides the same and ends here.
         if (split.axis < 0 || (below.size() == n && above.size() == n))
