@@ -137,10 +137,12 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
                 const float sj = starts[j], ej = ends[j];
                 for (uint32_t l = 0; l < kLanes; ++l) {
                     const float s = starts[i0 + l], e = ends[i0 + l];
-                    sBeforeS[l] += sj < s ? 1u : 0u;
-                    eBeforeS[l] += ej < s ? 1u : 0u;
-                    sBeforeE[l] += sj <= e ? 1u : 0u;
-                    eBeforeE[l] += ej <= e ? 1u : 0u;
+                    // Selects, which compile to one masked add each (an add of 0 or 1 takes
+                    // a compare, a masked move and an add).
+                    sBeforeS[l] = sj < s ? sBeforeS[l] + 1 : sBeforeS[l];
+                    eBeforeS[l] = ej < s ? eBeforeS[l] + 1 : eBeforeS[l];
+                    sBeforeE[l] = sj <= e ? sBeforeE[l] + 1 : sBeforeE[l];
+                    eBeforeE[l] = ej <= e ? eBeforeE[l] + 1 : eBeforeE[l];
                 }
             }
             for (uint32_t l = 0; l < kLanes; ++l) {
