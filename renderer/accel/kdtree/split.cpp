@@ -75,20 +75,31 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
             ++ends[axis][binOf((component(r.b.hi, axis) - lo[axis]) * scale[axis])];
         }
     }
+    constexpr double kInfinityD = std::numeric_limits<double>::infinity();
     KdSplit best;
     for (int axis = 0; axis < 3; ++axis) {
         if (!(extent[axis] > 0.0)) continue;
         const SplitCost cost(options, box, axis);
-        uint32_t nBelow = 0, nAbove = uint32_t(refs.size());
+        // The counts at each edge, then every edge's cost in a vectorized loop (+infinity where
+        // a box a few floats wide has bin edges that round onto its faces), then the cheapest.
+        uint32_t nBelow[kBins], nAbove[kBins];
+        nBelow[0] = 0;
+        nAbove[0] = uint32_t(refs.size());
         for (int i = 1; i < kBins; ++i) {
-            nBelow += starts[axis][i - 1];
-            nAbove -= ends[axis][i - 1];
-            auto pos = float(lo[axis] + extent[axis] * i / kBins);
-            // A box a few floats wide has bin edges that round onto its faces.
-            if (!(pos > box.lo[axis] && pos < box.hi[axis])) continue;
-            double c = cost(pos, nBelow, nAbove);
-            if (c < best.cost) best = KdSplit{axis, pos, c};
+            nBelow[i] = nBelow[i - 1] + starts[axis][i - 1];
+            nAbove[i] = nAbove[i - 1] - ends[axis][i - 1];
         }
+        const float boxLo = box.lo[axis], boxHi = box.hi[axis];
+        alignas(64) float pos[kBins];
+        alignas(64) double edgeCost[kBins];
+#pragma omp simd
+        for (int i = 0; i < kBins; ++i) {
+            pos[i] = float(lo[axis] + extent[axis] * i / kBins);
+            const double c = cost(pos[i], nBelow[i], nAbove[i]);
+            edgeCost[i] = (pos[i] > boxLo) & (pos[i] < boxHi) ? c : kInfinityD;
+        }
+        for (int i = 1; i < kBins; ++i)
+            if (edgeCost[i] < best.cost) best = KdSplit{axis, pos[i], edgeCost[i]};
     }
     return best;
 }
