@@ -92,11 +92,10 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
         const float boxLo = box.lo[axis], boxHi = box.hi[axis];
         alignas(64) float pos[kBins];
         alignas(64) double edgeCost[kBins];
-#pragma omp simd
         for (int i = 0; i < kBins; ++i) {
             pos[i] = float(lo[axis] + extent[axis] * i / kBins);
             const double c = cost(pos[i], nBelow[i], nAbove[i]);
-            edgeCost[i] = (pos[i] > boxLo) & (pos[i] < boxHi) ? c : kInfinityD;
+            edgeCost[i] = ((pos[i] > boxLo) & (pos[i] < boxHi)) ? c : kInfinityD;
         }
         for (int i = 1; i < kBins; ++i)
             if (edgeCost[i] < best.cost) best = KdSplit{axis, pos[i], edgeCost[i]};
@@ -162,8 +161,8 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
                 const uint32_t endsBeforeEnd = eBeforeE[l] - 1;  // not itself
                 const double sc = cost(s, sBeforeS[l], n - eBeforeS[l]);
                 const double ec = cost(e, sBeforeE[l], n - endsBeforeEnd - 1);
-                startCost[i] = (s > lo) & (s < hi) ? sc : kInfinityD;
-                endCost[i] = (e > lo) & (e < hi) ? ec : kInfinityD;
+                startCost[i] = ((s > lo) & (s < hi)) ? sc : kInfinityD;
+                endCost[i] = ((e > lo) & (e < hi)) ? ec : kInfinityD;
                 startOrder[i] = sBeforeS[l] + eBeforeS[l];
                 endOrder[i] = sBeforeE[l] + endsBeforeEnd;
             }
