@@ -6,6 +6,7 @@
 
 #include <sched.h>
 #include "bench_common.h"
+#include "bench_meshes.h"
 
 #include <algorithm>
 #include <chrono>
@@ -31,8 +32,6 @@ namespace {
 using namespace caustic::bench;
 
 using namespace caustic;
-
-const std::vector<std::string> kMeshNames = {"bunny", "teapot", "bunny-1m"};
 
 struct Options {
     int repeats = 3;
@@ -78,38 +77,6 @@ int parseArgs(int argc, char** argv, Options& o) {
     return -1;
 }
 
-// Scales and translates the mesh so that its bounds fit [-0.5, 0.5]^3, centred at the origin.
-void normalize(TriangleMesh& mesh) {
-    Bounds3 b;
-    for (const Vec3& p : mesh.positions) b.extend(p);
-    const Vec3 center = b.center();
-    const float scale = 1.0f / maxComponent(b.diagonal());
-    for (Vec3& p : mesh.positions) p = (p - center) * scale;
-}
-
-// 1-to-4 midpoint subdivision. Each edge's midpoint is made once (keyed by its sorted vertex
-// pair), so triangles that shared an edge share its midpoint and the mesh stays watertight.
-TriangleMesh subdivide(const TriangleMesh& in) {
-    TriangleMesh out;
-    out.positions = in.positions;
-    out.triangles.reserve(4 * in.triangles.size());
-    std::unordered_map<uint64_t, uint32_t> midpoints;
-    midpoints.reserve(2 * in.triangles.size());
-    auto midpoint = [&](uint32_t a, uint32_t b) {
-        uint64_t key = uint64_t(std::min(a, b)) << 32 | std::max(a, b);
-        auto [it, added] = midpoints.try_emplace(key, uint32_t(out.positions.size()));
-        if (added) out.positions.push_back(0.5f * (in.positions[a] + in.positions[b]));
-        return it->second;
-    };
-    for (const glm::uvec3& t : in.triangles) {
-        uint32_t ab = midpoint(t.x, t.y), bc = midpoint(t.y, t.z), ca = midpoint(t.z, t.x);
-        out.triangles.insert(out.triangles.end(),
-                             {glm::uvec3(t.x, ab, ca), glm::uvec3(ab, t.y, bc),
-                              glm::uvec3(ca, bc, t.z), glm::uvec3(ab, bc, ca)});
-    }
-    return out;
-}
-
 // Edges used by exactly one triangle: the mesh's holes. Subdivision must only double them.
 size_t boundaryEdges(const TriangleMesh& mesh) {
     std::unordered_map<uint64_t, uint32_t> uses;
@@ -120,15 +87,6 @@ size_t boundaryEdges(const TriangleMesh& mesh) {
             ++uses[uint64_t(std::min(a, b)) << 32 | std::max(a, b)];
         }
     return size_t(std::count_if(uses.begin(), uses.end(), [](auto& e) { return e.second == 1; }));
-}
-
-TriangleMesh loadMesh(const std::string& name) {
-    const std::string file = name == "teapot" ? "teapot.obj" : "stanford-bunny.obj";
-    TriangleMesh mesh = loadObj(std::string(CAUSTIC_DEFAULT_ASSETS_DIR) + "/" + file,
-                                MeshTransform{}, "/meshes/" + name);
-    normalize(mesh);
-    if (name == "bunny-1m") mesh = subdivide(subdivide(mesh));
-    return mesh;
 }
 
 // Primary rays: a pinhole camera outside the unit box, looking at its centre; one ray through the
