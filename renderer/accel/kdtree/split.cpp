@@ -92,6 +92,7 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
         const float boxLo = box.lo[axis], boxHi = box.hi[axis];
         alignas(64) float pos[kBins];
         alignas(64) double edgeCost[kBins];
+        // From edge 0, the box's own face (never inside, so never chosen): whole vectors.
         for (int i = 0; i < kBins; ++i) {
             pos[i] = float(lo[axis] + extent[axis] * i / kBins);
             const double c = cost(pos[i], nBelow[i], nAbove[i]);
