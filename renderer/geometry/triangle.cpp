@@ -6,14 +6,6 @@
 namespace caustic {
 namespace {
 
-// a*b - c*d with one rounding error, by Kahan's algorithm with FMA.
-float differenceOfProducts(float a, float b, float c, float d) {
-    float cd = c * d;
-    float err = std::fma(-c, d, cd);
-    float dop = std::fma(a, b, -cd);
-    return dop + err;
-}
-
 int maxDimension(const Vec3& v) {
     return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2);
 }
@@ -96,23 +88,19 @@ WatertightRay::WatertightRay(const Ray& r) : ray(r) {
 
 std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax, const Vec3& p0,
                                              const Vec3& p1, const Vec3& p2) {
-    // Translate the vertices to the ray origin and permute so that the ray's largest direction
-    // component is z.
+    // Translate the vertices to the ray origin, permute so that the ray's largest direction
+    // component is z, and shear so that the ray runs along +z. z is sheared below, by the scale.
     // (Components are loaded from memory by index: permuting a vector held in registers would
     // spill it to the stack on every test, and glm's operator[] would branch on the index.)
     const int kx = wr.kx, ky = wr.ky, kz = wr.kz;
-    Vec3 p0t(component(p0, kx) - wr.ox, component(p0, ky) - wr.oy, component(p0, kz) - wr.oz);
-    Vec3 p1t(component(p1, kx) - wr.ox, component(p1, ky) - wr.oy, component(p1, kz) - wr.oz);
-    Vec3 p2t(component(p2, kx) - wr.ox, component(p2, ky) - wr.oy, component(p2, kz) - wr.oz);
-
-    // Shear so that the ray runs along +z.
-    const float sx = wr.sx, sy = wr.sy, sz = wr.sz;
-    p0t.x += sx * p0t.z;
-    p0t.y += sy * p0t.z;
-    p1t.x += sx * p1t.z;
-    p1t.y += sy * p1t.z;
-    p2t.x += sx * p2t.z;
-    p2t.y += sy * p2t.z;
+    Vec3 p0t, p1t, p2t;
+    auto shear = [&](const Vec3& p, Vec3& pt) {
+        shearVertex(wr, component(p, kx), component(p, ky), component(p, kz), pt.x, pt.y);
+        pt.z = component(p, kz) - wr.oz;
+    };
+    shear(p0, p0t);
+    shear(p1, p1t);
+    shear(p2, p2t);
 
     // Edge functions. Where one is zero or below the normal floats, its float value may have
     // underflowed and its sign be wrong (a ray in the plane of a triangle 1e-45 thick "hit" it
@@ -120,12 +108,13 @@ std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax
     float e0 = differenceOfProducts(p1t.x, p2t.y, p1t.y, p2t.x);
     float e1 = differenceOfProducts(p2t.x, p0t.y, p2t.y, p0t.x);
     float e2 = differenceOfProducts(p0t.x, p1t.y, p0t.y, p1t.x);
+    if (!edgeTestMayHit(e0, e1, e2)) return std::nullopt;
     constexpr float kSmallest = std::numeric_limits<float>::min();
     if (std::abs(e0) < kSmallest || std::abs(e1) < kSmallest || std::abs(e2) < kSmallest)
         return intersectInDouble(wr, tMax, p0t, p1t, p2t, p0, p1, p2);
-    if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return std::nullopt;
     float det = e0 + e1 + e2;
     // Scaled distance, compared against the range without dividing.
+    const float sz = wr.sz;
     p0t.z *= sz;
     p1t.z *= sz;
     p2t.z *= sz;

@@ -2,6 +2,8 @@
 // Intersection", JCGT 2(1)), as in pbrt-v4 section 6.5.3, with its conservative bound on t.
 #pragma once
 
+#include <cmath>
+#include <limits>
 #include <optional>
 
 #include "core/ray.h"
@@ -22,6 +24,35 @@ struct WatertightRay {
     float ox, oy, oz;  ///< The origin, permuted.
     explicit WatertightRay(const Ray& r);
 };
+
+/// a*b - c*d with one rounding error, by Kahan's algorithm with FMA (pbrt-v4, section B.2.9).
+inline float differenceOfProducts(float a, float b, float c, float d) {
+    float cd = c * d;
+    float err = std::fma(-c, d, cd);
+    float dop = std::fma(a, b, -cd);
+    return dop + err;
+}
+
+/// A vertex coordinate pair translated to the ray's origin, permuted (x, y, z = components kx, ky,
+/// kz) and sheared so that the ray runs along +z: x and y of the vertex in the sheared frame. Its
+/// z, `vz - wr.oz`, is sheared by the scale `sz` later. The multiply-adds are explicit, so that
+/// every caller (intersectTriangle, a kd-tree leaf's test of eight triangles at once) computes the
+/// same bits whatever the compiler's floating-point contraction.
+inline void shearVertex(const WatertightRay& wr, float vx, float vy, float vz, float& x, float& y) {
+    const float z = vz - wr.oz;
+    x = std::fma(wr.sx, z, vx - wr.ox);
+    y = std::fma(wr.sy, z, vy - wr.oy);
+}
+
+/// The float edge functions' verdict: false where intersectTriangle certainly misses (the
+/// functions have opposite signs), true where it may hit or decides in double (one of them is zero
+/// or below the normal floats, so its sign may be wrong).
+inline bool edgeTestMayHit(float e0, float e1, float e2) {
+    constexpr float kSmallest = std::numeric_limits<float>::min();
+    if (std::abs(e0) < kSmallest || std::abs(e1) < kSmallest || std::abs(e2) < kSmallest)
+        return true;
+    return !((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0));
+}
 
 /// Nearest hit of the ray with triangle (p0, p1, p2) in (0, tMax). Rays through shared edges and
 /// vertices hit exactly one of the triangles that share them; zero-area triangles are never hit.

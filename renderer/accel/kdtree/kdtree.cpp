@@ -2,6 +2,8 @@
 // direction components of zero, rays lying in a split plane, and hits exactly on a plane.
 #include "accel/kdtree/kdtree.h"
 
+#include <bit>
+
 namespace caustic {
 namespace {
 
@@ -37,8 +39,7 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
     // `best` could otherwise alias: the loop keeps them in registers instead of reloading them.
     float tMin = tEnter, tEnd = tExit;
     const Node* nodes = nodes_.data();
-    const uint32_t* primIndices = primIndices_.data();
-    const TriangleVertices* triangles = triangles_.empty() ? nullptr : triangles_.data();
+    const uint32_t* leafData = leafData_.data();
 
     struct Todo {
         uint32_t node;
@@ -84,23 +85,33 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
             continue;
         }
 
-        // Test the leaf's primitives against the closest hit so far.
-        uint32_t count = node.primCount();
-        // Not &primIndices_[offset]: an empty leaf's offset may be the end of the array, or the
-        // array empty when every other leaf holds one primitive, and indexing there is undefined.
-        const uint32_t* prims = count == 1 ? &node.onePrim : primIndices + node.primOffset;
-        for (uint32_t i = 0; i < count; ++i) {
-            const uint32_t prim = prims[i];
-            const TriangleVertices* v = !triangles || geometry_.kind(prim) != PrimKind::Triangle
-                                            ? nullptr
-                                            : &triangles[prim];
-            if (auto h = v ? Geometry::intersectVertices(wr, closest, v->p0, v->p1, v->p2)
-                           : geometry_.intersect(prim, wr, closest)) {
-                if constexpr (AnyHit) return true;
-                closest = h->t;
-                best = *h;
-                bestPrim = prim;
-                found = true;
+        // Test the leaf's primitives against the closest hit so far: eight lanes at once, then
+        // each lane that may hit by itself.
+        const uint32_t count = node.primCount();
+        const uint32_t* leaf = leafData + node.leafOffset;
+        for (uint32_t first = 0; first < count; first += kd_leaf::kLanes) {
+            for (uint32_t lanes = mayHitLanes(leaf, count, first, wr); lanes != 0;
+                 lanes &= lanes - 1u) {
+                const uint32_t i = first + uint32_t(std::countr_zero(lanes));
+                const uint32_t prim = leaf[kd_leaf::primitives(count) + i];
+                const auto vertex = [&](int v) {
+                    Vec3 p;
+                    for (int a = 0; a < 3; ++a)
+                        setComponent(
+                            p, a, std::bit_cast<float>(leaf[kd_leaf::coordinate(count, v, a) + i]));
+                    return p;
+                };
+                auto h =
+                    geometry_.kind(prim) == PrimKind::Triangle
+                        ? Geometry::intersectVertices(wr, closest, vertex(0), vertex(1), vertex(2))
+                        : geometry_.intersect(prim, wr, closest);
+                if (h) {
+                    if constexpr (AnyHit) return true;
+                    closest = h->t;
+                    best = *h;
+                    bestPrim = prim;
+                    found = true;
+                }
             }
         }
         if (todoCount == 0) break;

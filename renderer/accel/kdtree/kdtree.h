@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "accel/accelerator.h"
+#include "accel/kdtree/leaf_data.h"
 
 namespace caustic {
 
@@ -48,17 +49,16 @@ public:
     const KdTreeStats& stats() const { return stats_; }
 
     struct Node;
-    /// The tree as built, depth first, and the primitive indices its leaves point into: for tests
+    /// The tree as built, depth first, and its leaves' data (accel/kdtree/leaf_data.h): for tests
     /// that the build is deterministic.
     std::span<const Node> nodes() const { return nodes_; }
-    std::span<const uint32_t> primIndices() const { return primIndices_; }
+    std::span<const uint32_t> leafData() const { return leafData_; }
 
-    /// A node: 4 bytes of split position or primitive reference, 4 bytes of flags and counts.
+    /// A node: 4 bytes of split position or leaf data offset, 4 bytes of flags and counts.
     struct Node {
         union {
             float split;          // interior: the split plane's coordinate
-            uint32_t onePrim;     // leaf with one primitive: that primitive
-            uint32_t primOffset;  // leaf with more: offset into primIndices_
+            uint32_t leafOffset;  // leaf: where its data starts in leafData_
         };
         uint32_t bits;  // low 2 bits: axis 0-2, or 3 for a leaf; high 30: above child or prim count
 
@@ -72,19 +72,10 @@ private:
     template <bool AnyHit>
     bool traverse(const Ray& ray, float tMax, uint32_t& prim, PrimHit& hit) const;
 
-    /// A triangle's vertices, copied once in primitive order: a leaf reads 36 contiguous bytes
-    /// instead of the geometry's kind, index and three vertex entries, and skips its dispatch.
-    struct TriangleVertices {
-        Vec3 p0, p1, p2;
-    };
-
     const Geometry& geometry_;
     Bounds3 bounds_;
     std::vector<Node> nodes_;
-    std::vector<uint32_t> primIndices_;
-    /// By primitive index; empty when no primitive is a triangle, else every primitive's entry
-    /// (those of spheres and quads unused: scenes have few of them).
-    std::vector<TriangleVertices> triangles_;
+    std::vector<uint32_t> leafData_;  // the leaves' primitives and vertices, kd_leaf's layout
     KdTreeStats stats_;
 
     friend class KdTreeBuilder;

@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <memory>
 
@@ -35,11 +36,11 @@ Bounds3 finiteBox(const Bounds3& b) {
     return Bounds3{glm::clamp(b.lo, -m, m), glm::clamp(b.hi, -m, m)};
 }
 
-// A subtree built by one thread: nodes depth first, above-child indices and primitive offsets
+// A subtree built by one thread: nodes depth first, above-child indices and leaf data offsets
 // relative to its own arrays.
 struct Subtree {
     std::vector<Node> nodes;
-    std::vector<uint32_t> prims;
+    std::vector<uint32_t> leafData;
     KdTreeStats stats;
 };
 
@@ -78,7 +79,12 @@ public:
 #pragma omp parallel
 #pragma omp single nowait
         buildTop(root, std::move(refs), box, maxDepth, 0, 0);
+        size_t nodes = 0, words = kd_leaf::kPadWords;
+        countSizes(root, nodes, words);
+        tree_.nodes_.reserve(nodes);
+        tree_.leafData_.reserve(words);
         flatten(root);
+        tree_.leafData_.resize(tree_.leafData_.size() + kd_leaf::kPadWords);
     }
 
 private:
@@ -180,12 +186,9 @@ private:
             CAUSTIC_CHECK_LT(count, 1u << 30);
             Node& leaf = out_.nodes[index];
             leaf.bits = 3u | (count << 2);
-            if (count == 1) {
-                leaf.onePrim = stack_[begin].prim;
-            } else {
-                leaf.primOffset = uint32_t(out_.prims.size());
-                for (size_t i = begin; i < end; ++i) out_.prims.push_back(stack_[i].prim);
-            }
+            CAUSTIC_CHECK_LT(out_.leafData.size(), size_t(1) << 32);
+            leaf.leafOffset = uint32_t(out_.leafData.size());
+            b_.appendLeafData(std::span(stack_).subspan(begin, count), out_.leafData);
             KdTreeStats& stats = out_.stats;
             ++stats.leaves;
             if (count == 0) ++stats.emptyLeaves;
@@ -200,6 +203,25 @@ private:
         std::vector<KdRef> stack_;
         std::vector<KdRef> above_;  // a partition's above side, before it joins the stack
     };
+
+    // A leaf's primitives and their triangles' vertices, in kd_leaf's layout (leaf_data.h).
+    void appendLeafData(std::span<const KdRef> refs, std::vector<uint32_t>& data) const {
+        const auto n = uint32_t(refs.size());
+        const size_t base = data.size();
+        data.resize(base + size_t(kd_leaf::kWordsPerPrim) * n);
+        uint32_t* leaf = data.data() + base;
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint32_t prim = refs[i].prim;
+            leaf[kd_leaf::primitives(n) + i] = prim;
+            if (geometry_.kind(prim) != PrimKind::Triangle) continue;
+            Vec3 p[3];
+            geometry_.triangleVertices(geometry_.localIndex(prim), p[0], p[1], p[2]);
+            for (int v = 0; v < 3; ++v)
+                for (int a = 0; a < 3; ++a)
+                    leaf[kd_leaf::coordinate(n, v, a) + i] =
+                        std::bit_cast<uint32_t>(component(p[v], a));
+        }
+    }
 
     double areaRatio(const Bounds3& box) const {
         return rootArea_ > 0.0 ? surfaceAreaD(box) / rootArea_ : 0.0;
@@ -244,6 +266,18 @@ private:
 #pragma omp taskwait
     }
 
+    // The nodes and leaf data words of the tree below `node`, added to `nodes` and `words`.
+    static void countSizes(const TopNode& node, size_t& nodes, size_t& words) {
+        if (node.subtree) {
+            nodes += node.subtree->nodes.size();
+            words += node.subtree->leafData.size();
+            return;
+        }
+        ++nodes;
+        countSizes(*node.below, nodes, words);
+        countSizes(*node.above, nodes, words);
+    }
+
     // Writes the tree depth first (a node's below child follows it, its above child's index is
     // stored in the node), copying each subtree's arrays with their indices moved to where they
     // land. Frees the top's nodes and the subtrees on the way.
@@ -252,17 +286,18 @@ private:
         KdTreeStats& stats = tree_.stats_;
         if (node.subtree) {
             const Subtree& s = *node.subtree;
-            const auto base = uint32_t(nodes.size()),
-                       primBase = uint32_t(tree_.primIndices_.size());
+            std::vector<uint32_t>& leafData = tree_.leafData_;
+            const auto base = uint32_t(nodes.size()), dataBase = uint32_t(leafData.size());
             CAUSTIC_CHECK_LT(uint64_t(base) + s.nodes.size(), uint64_t(1) << 30);
+            CAUSTIC_CHECK_LT(uint64_t(dataBase) + s.leafData.size(), uint64_t(1) << 32);
             for (Node n : s.nodes) {
                 if (!n.isLeaf())
                     n.bits += base << 2;
-                else if (n.primCount() != 1)
-                    n.primOffset += primBase;
+                else
+                    n.leafOffset += dataBase;
                 nodes.push_back(n);
             }
-            tree_.primIndices_.insert(tree_.primIndices_.end(), s.prims.begin(), s.prims.end());
+            leafData.insert(leafData.end(), s.leafData.begin(), s.leafData.end());
             stats.interiorNodes += s.stats.interiorNodes;
             stats.leaves += s.stats.leaves;
             stats.emptyLeaves += s.stats.emptyLeaves;
@@ -296,19 +331,10 @@ KdTreeAccel::KdTreeAccel(const Geometry& geometry, const KdTreeOptions& options)
     : geometry_(geometry) {
     static_assert(sizeof(Node) == 8);
     KdTreeBuilder(*this, options).build();
-    if (geometry.hasTriangles()) {
-        triangles_.resize(geometry.size());
-        for (uint32_t p = 0; p < geometry.size(); ++p) {
-            TriangleVertices& v = triangles_[p];
-            if (geometry.kind(p) == PrimKind::Triangle)
-                geometry.triangleVertices(geometry.localIndex(p), v.p0, v.p1, v.p2);
-        }
-    }
 }
 
 size_t KdTreeAccel::memoryBytes() const {
-    return nodes_.capacity() * sizeof(Node) + primIndices_.capacity() * sizeof(uint32_t) +
-           triangles_.capacity() * sizeof(TriangleVertices);
+    return nodes_.capacity() * sizeof(Node) + leafData_.capacity() * sizeof(uint32_t);
 }
 
 }  // namespace caustic

@@ -12,12 +12,12 @@
 namespace caustic {
 namespace {
 
-// The bytes of a tree: its nodes (with the unused bytes of empty leaves) and leaf indices.
+// The bytes of a tree: its nodes and its leaves' data.
 std::vector<unsigned char> treeBytes(const KdTreeAccel& tree) {
-    std::vector<unsigned char> bytes(tree.nodes().size_bytes() + tree.primIndices().size_bytes());
+    std::vector<unsigned char> bytes(tree.nodes().size_bytes() + tree.leafData().size_bytes());
     std::memcpy(bytes.data(), tree.nodes().data(), tree.nodes().size_bytes());
-    std::memcpy(bytes.data() + tree.nodes().size_bytes(), tree.primIndices().data(),
-                tree.primIndices().size_bytes());
+    std::memcpy(bytes.data() + tree.nodes().size_bytes(), tree.leafData().data(),
+                tree.leafData().size_bytes());
     return bytes;
 }
 
