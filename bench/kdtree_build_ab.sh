@@ -12,60 +12,13 @@
 # OMP_NUM_THREADS applies to both binaries. Run nothing else CPU-heavy meanwhile.
 set -euo pipefail
 
-rounds=10 builds=8 meshes=bunny,teapot
-while [[ $# -gt 0 ]]; do
-    case $1 in
-        --rounds) rounds=$2; shift 2 ;;
-        --builds) builds=$2; shift 2 ;;
-        --meshes) meshes=$2; shift 2 ;;
-        -h | --help) sed -n '2,12p' "$0" | cut -c3-; exit 0 ;;
-        *) break ;;
-    esac
-done
-if [[ $# -ne 2 ]]; then
-    echo "usage: $0 [--rounds N] [--builds N] [--meshes LIST] REV_A REV_B" >&2
-    exit 2
-fi
-src=$(cd "$(dirname "$0")/.." && pwd)
-root=${AB_DIR:-/tmp/caustic-kdtree-ab}
+# shellcheck source=bench/ab_common.sh
+source "$(dirname "$0")/ab_common.sh"
+rounds=10 count=8 meshes=bunny,teapot
+start_ab "$0 [--rounds N] [--builds N] [--meshes LIST] REV_A REV_B" --builds "$@"
+run_ab bench_kdtree_build "$runs" "kdtree_build.cpp bench_meshes.h bench_common.h" --repeats "$count" --meshes "$meshes" --tsv
 
-# Builds bench_kdtree_build for revision $1; prints the binary's path.
-build_revision() {
-    local sha worktree
-    sha=$(git -C "$src" rev-parse --verify "$1^{commit}")
-    worktree=$root/$sha
-    [[ -d $worktree ]] || git -C "$src" worktree add --detach -q "$worktree" "$sha"
-    # This checkout's benchmark, whatever the revision holds: it uses only the accelerators'
-    # public interface, so it compiles against older renderers too.
-    cp "$src"/bench/{kdtree_build.cpp,bench_meshes.h,bench_common.h} "$worktree/bench/"
-    grep -q bench_kdtree_build "$worktree/bench/CMakeLists.txt" ||
-        printf '%s\n' 'add_executable(bench_kdtree_build kdtree_build.cpp)' \
-            'target_link_libraries(bench_kdtree_build PRIVATE caustic_renderer caustic_command_line)' \
-            >>"$worktree/bench/CMakeLists.txt"
-    local launcher=()
-    command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-    cmake -S "$worktree" -B "$worktree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-        -DCAUSTIC_BUILD_TESTS=OFF "${launcher[@]}" >/dev/null
-    ninja -C "$worktree/build" bench_kdtree_build >&2
-    echo "$worktree/build/bench/bench_kdtree_build"
-}
-
-binary_a=$(build_revision "$1")
-binary_b=$(build_revision "$2")
-runs=$(mktemp)
-trap 'rm -f "$runs"' EXIT
-for ((round = 0; round < rounds; round++)); do
-    order=(A B)
-    ((round % 2)) && order=(B A)
-    for side in "${order[@]}"; do
-        binary=$binary_a
-        [[ $side == B ]] && binary=$binary_b
-        "$binary" --repeats "$builds" --meshes "$meshes" --tsv | sed "s/^/$side\t/" >>"$runs"
-    done
-    echo "round $((round + 1)) of $rounds done" >&2
-done
-
-python3 - "$runs" "$1" "$2" "$rounds" "$builds" <<'EOF'
+python3 - "$runs" "$rev_a" "$rev_b" "$rounds" "$count" <<'EOF'
 import statistics, sys
 from collections import defaultdict
 

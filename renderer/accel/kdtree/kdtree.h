@@ -2,6 +2,7 @@
 // heuristic (MacDonald & Booth 1990; Wald & Havran 2006, "On building fast kd-trees for ray
 // tracing, and on doing that in O(N log N)"). Structure and traversal follow pbrt-v3's KdTreeAccel
 // (section 4.4): 8-byte nodes in depth-first order, front-to-back traversal with an explicit stack.
+// Leaves hold their triangles' vertices and test eight at once (leaf_data.h).
 #pragma once
 
 #include <cstdint>
