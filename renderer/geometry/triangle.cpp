@@ -108,10 +108,9 @@ std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax
     float e0 = differenceOfProducts(p1t.x, p2t.y, p1t.y, p2t.x);
     float e1 = differenceOfProducts(p2t.x, p0t.y, p2t.y, p0t.x);
     float e2 = differenceOfProducts(p0t.x, p1t.y, p0t.y, p1t.x);
-    if (!edgeTestMayHit(e0, e1, e2)) return std::nullopt;
-    constexpr float kSmallest = std::numeric_limits<float>::min();
-    if (std::abs(e0) < kSmallest || std::abs(e1) < kSmallest || std::abs(e2) < kSmallest)
+    if (edgeFunctionsTiny(e0, e1, e2))
         return intersectInDouble(wr, tMax, p0t, p1t, p2t, p0, p1, p2);
+    if (edgeSignsDisagree(e0, e1, e2)) return std::nullopt;
     float det = e0 + e1 + e2;
     // Scaled distance, compared against the range without dividing.
     const float sz = wr.sz;

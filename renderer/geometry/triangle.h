@@ -44,14 +44,20 @@ inline void shearVertex(const WatertightRay& wr, float vx, float vy, float vz, f
     y = std::fma(wr.sy, z, vy - wr.oy);
 }
 
-/// The float edge functions' verdict: false where intersectTriangle certainly misses (the
-/// functions have opposite signs), true where it may hit or decides in double (one of them is zero
-/// or below the normal floats, so its sign may be wrong).
-inline bool edgeTestMayHit(float e0, float e1, float e2) {
+/// Whether an edge function is zero or below the normal floats, so that its float sign may be
+/// wrong: intersectTriangle then decides in double.
+inline bool edgeFunctionsTiny(float e0, float e1, float e2) {
     constexpr float kSmallest = std::numeric_limits<float>::min();
-    if (std::abs(e0) < kSmallest || std::abs(e1) < kSmallest || std::abs(e2) < kSmallest)
-        return true;
-    return !((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0));
+    return std::abs(e0) < kSmallest || std::abs(e1) < kSmallest || std::abs(e2) < kSmallest;
+}
+/// Whether the edge functions have opposite signs: the ray misses the triangle.
+inline bool edgeSignsDisagree(float e0, float e1, float e2) {
+    return (e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0);
+}
+/// The float edge functions' verdict: false where intersectTriangle certainly misses, true where
+/// it may hit or decides in double.
+inline bool edgeTestMayHit(float e0, float e1, float e2) {
+    return edgeFunctionsTiny(e0, e1, e2) || !edgeSignsDisagree(e0, e1, e2);
 }
 
 /// Nearest hit of the ray with triangle (p0, p1, p2) in (0, tMax). Rays through shared edges and

@@ -186,7 +186,6 @@ private:
             CAUSTIC_CHECK_LT(count, 1u << 30);
             Node& leaf = out_.nodes[index];
             leaf.bits = 3u | (count << 2);
-            CAUSTIC_CHECK_LT(out_.leafData.size(), size_t(1) << 32);
             leaf.leafOffset = uint32_t(out_.leafData.size());
             b_.appendLeafData(std::span(stack_).subspan(begin, count), out_.leafData);
             KdTreeStats& stats = out_.stats;

@@ -2,10 +2,9 @@
 // them at once. A leaf of n primitives is 10 n words in one array: the n triangles' vertex
 // coordinates, one coordinate at a time (vertex 0's x of all n, its y, its z, then vertex 1's,
 // vertex 2's), then the n primitive indices. So each coordinate of eight triangles is one vector
-// load, as in Embree's Triangle4v and the layout of Wald's thesis ("Realtime Ray Tracing and
-// Interactive Global Illumination", 2004, section 7.2), but without padding a leaf to a multiple
-// of the vector: its lanes past n read the next coordinate's words and are masked off. Triangles
-// only: a lane that is another primitive (sphere, quad) has zero vertices.
+// load, as in Embree's Triangle4v, but a leaf is not padded to a multiple of the vector: its lanes
+// past n read the next coordinate's words and are masked off. Triangles only: a lane that is
+// another primitive (sphere, quad) has zero vertices.
 #pragma once
 
 #include <cstdint>

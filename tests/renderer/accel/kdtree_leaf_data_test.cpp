@@ -5,6 +5,7 @@
 // two tests compute different edge functions.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -16,8 +17,10 @@
 namespace caustic {
 namespace {
 
+using Triangle = std::array<Vec3, 3>;
+
 // The scalar edge test: intersectTriangle's first step, with the helpers it uses.
-bool scalarMayHit(const WatertightRay& wr, const Vec3 (&p)[3]) {
+bool scalarMayHit(const WatertightRay& wr, const Triangle& p) {
     float x[3], y[3];
     for (int v = 0; v < 3; ++v)
         shearVertex(wr, component(p[v], wr.kx), component(p[v], wr.ky), component(p[v], wr.kz),
@@ -35,7 +38,7 @@ Vec3 randomVec(Rng& rng, float scale) {
 // A triangle for a lane, of one of the kinds that matter: near the ray, anywhere, with a vertex
 // or an edge on the ray (edge functions of zero), of zero area, tiny (edge functions below the
 // normal floats), or all zero (padding, or a primitive other than a triangle).
-void randomTriangle(Rng& rng, const Ray& ray, float scale, Vec3 (&p)[3]) {
+void randomTriangle(Rng& rng, const Ray& ray, float scale, Triangle& p) {
     const Vec3 onRay = ray.o + (scale * 4.0f * rng.uniform()) * ray.d;
     for (Vec3& v : p) v = onRay + randomVec(rng, scale * 0.1f);
     switch (rng.nextUint() % 7) {
@@ -79,15 +82,15 @@ TEST(KdLeaf, KeepsExactlyTheLanesTheScalarEdgeTestKeeps) {
         // words and, for the last coordinate and the last block, the primitive indices and the
         // padding after them, with garbage that must be masked off.
         const uint32_t n = 1 + rng.nextUint() % 20;
-        std::vector<Vec3> tri(3 * n);
+        std::vector<Triangle> tri(n);
         std::vector<uint32_t> leaf(kd_leaf::kWordsPerPrim * n + kd_leaf::kPadWords);
         for (uint32_t i = 0; i < n; ++i) {
-            randomTriangle(rng, ray, scale, *reinterpret_cast<Vec3(*)[3]>(&tri[3 * i]));
+            randomTriangle(rng, ray, scale, tri[i]);
             leaf[kd_leaf::primitives(n) + i] = rng.nextUint();
             for (int v = 0; v < 3; ++v)
                 for (int a = 0; a < 3; ++a)
                     leaf[kd_leaf::coordinate(n, v, a) + i] =
-                        std::bit_cast<uint32_t>(component(tri[3 * i + v], a));
+                        std::bit_cast<uint32_t>(component(tri[i][v], a));
         }
         for (uint32_t w = kd_leaf::kWordsPerPrim * n; w < leaf.size(); ++w) leaf[w] = 0;
         for (uint32_t first = 0; first < n; first += kd_leaf::kLanes) {
@@ -99,7 +102,7 @@ TEST(KdLeaf, KeepsExactlyTheLanesTheScalarEdgeTestKeeps) {
                     ASSERT_FALSE(lane) << "trial " << trial << ": lane " << i << " of " << n;
                     continue;
                 }
-                const Vec3(&p)[3] = *reinterpret_cast<const Vec3(*)[3]>(&tri[3 * i]);
+                const Triangle& p = tri[i];
                 ASSERT_EQ(lane, scalarMayHit(wr, p)) << "trial " << trial << ", lane " << i;
                 const bool hit =
                     intersectTriangle(wr, std::numeric_limits<float>::infinity(), p[0], p[1], p[2])
