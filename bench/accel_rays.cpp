@@ -9,7 +9,9 @@
 #include "bench_meshes.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -36,15 +38,46 @@ using namespace caustic;
 struct Options {
     int repeats = 3;
     std::vector<std::string> meshes = kMeshNames;
-    int side = 512;                 // primary rays: side x side pixels, one ray each
-    size_t randomRays = 262144;     // random rays
-    size_t bruteRays = 16384;       // at most this many rays per set for bruteforce
-    std::vector<int> kdtreeDepths;  // kd-trees with these depth limits, beside the default one
+    int side = 512;                           // primary rays: side x side pixels, one ray each
+    size_t randomRays = 262144;               // random rays
+    size_t bruteRays = 16384;                 // at most this many rays per set for bruteforce
+    std::vector<std::string> kdtreeVariants;  // kd-trees of other options, beside the default one
 };
 
-// The name of the kd-tree built with depth limit `depth` (KdTreeOptions::maxDepth).
-std::string depthVariant(int depth) {
-    return "kdtree depth " + std::to_string(depth);
+constexpr std::string_view kVariantPrefix = "kdtree ";
+
+// The options of a variant "key=value[:key=value...]" (keys: depth, traversal, intersect, block,
+// bonus); throws on anything else.
+KdTreeOptions variantOptions(const std::string& spec) {
+    KdTreeOptions o;
+    std::istringstream in(spec);
+    for (std::string item; std::getline(in, item, ':');) {
+        const size_t eq = item.find('=');
+        const std::string key = item.substr(0, eq);
+        const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
+        size_t used = 0;
+        const double v = value.empty() ? 0.0 : std::stod(value, &used);
+        if (used == 0 || used != value.size())
+            throw std::invalid_argument("kd-tree variant '" + spec + "': '" + item +
+                                        "' is not key=number");
+        if (key == "depth" && v >= 1 && v <= KdTreeAccel::kMaxDepth && v == std::floor(v))
+            o.maxDepth = int(v);
+        else if (key == "traversal" && v > 0)
+            o.traversalCost = float(v);
+        else if (key == "intersect" && v > 0)
+            o.intersectCost = float(v);
+        else if (key == "block" && v >= 1 && v <= 1024 && std::has_single_bit(uint32_t(v)) &&
+                 v == std::floor(v))
+            o.leafBlock = uint32_t(v);
+        else if (key == "bonus" && v >= 0 && v < 1)
+            o.emptyBonus = float(v);
+        else
+            throw std::invalid_argument(
+                "kd-tree variant '" + spec + "': '" + item +
+                "' is not depth=1..60, traversal=>0, intersect=>0, block=power of two or "
+                "bonus=[0,1)");
+    }
+    return o;
 }
 
 // Parses the command line into `o`; returns -1 to run, else the exit code.
@@ -59,15 +92,31 @@ int parseArgs(int argc, char** argv, Options& o) {
         ->check(CLI::IsMember(kMeshNames))
         ->type_name("LIST")
         ->capture_default_str();
-    app.add_option(
-           "--kdtree-depths", o.kdtreeDepths,
-           "Also build kd-trees with these depth limits (KdTreeOptions::maxDepth), "
-           "comma-separated, timed in the same interleaved rounds: a table gives each one's "
-           "cost over the default kd-tree's")
+    std::vector<int> depths;
+    app.add_option("--kdtree-depths", depths,
+                   "Also build kd-trees with these depth limits, comma-separated: the same as "
+                   "--kdtree-variants depth=N,...")
         ->delimiter(',')
         ->check(CLI::Range(1, KdTreeAccel::kMaxDepth))
         ->type_name("LIST");
+    app.add_option("--kdtree-variants", o.kdtreeVariants,
+                   "Also build kd-trees of other KdTreeOptions, comma-separated, each "
+                   "key=value[:key=value...] of depth (maxDepth), traversal (traversalCost), "
+                   "intersect (intersectCost), block (leafBlock), bonus (emptyBonus); timed in "
+                   "the same interleaved rounds: a table gives each one's cost over the default "
+                   "kd-tree's")
+        ->delimiter(',')
+        ->check([](const std::string& spec) {
+            try {
+                variantOptions(spec);
+                return std::string();
+            } catch (const std::exception& e) {
+                return std::string(e.what());
+            }
+        })
+        ->type_name("LIST");
     if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
+    for (int depth : depths) o.kdtreeVariants.push_back("depth=" + std::to_string(depth));
     if (smoke) {
         o.repeats = 1;
         o.meshes = {"teapot"};
@@ -191,7 +240,7 @@ struct MeshResult {
     std::map<std::string, std::vector<double>> buildSeconds;
     std::map<std::string, size_t> memory;
     KdTreeStats kd;
-    std::map<std::string, uint32_t> variantNodes;  // nodes of each depth variant
+    std::map<std::string, KdTreeStats> variantStats;  // of each kd-tree variant
     std::vector<SetAgreement> agreement;
     std::vector<RayRow> rows;
 };
@@ -208,7 +257,8 @@ MeshResult runMesh(const std::string& name, const Options& opt, int allThreads) 
     r.geometryBytes = geometry.memoryBytes();
     r.accels = {"kdtree", "embree"};
     if (name == "teapot") r.accels.push_back("bruteforce");
-    for (int depth : opt.kdtreeDepths) r.accels.push_back(depthVariant(depth));
+    for (const std::string& spec : opt.kdtreeVariants)
+        r.accels.push_back(std::string(kVariantPrefix) + spec);
 
     // Build each accelerator --repeats times, interleaved; keep the last of each.
     std::map<std::string, std::unique_ptr<Accelerator>> accel;
@@ -216,18 +266,17 @@ MeshResult runMesh(const std::string& name, const Options& opt, int allThreads) 
         for (const std::string& a : r.accels) {
             accel[a].reset();
             auto start = std::chrono::steady_clock::now();
-            accel[a] = a.starts_with("kdtree depth ")
+            accel[a] = a.starts_with(kVariantPrefix)
                            ? std::make_unique<KdTreeAccel>(
-                                 geometry, KdTreeOptions{.maxDepth = std::stoi(a.substr(13))})
+                                 geometry, variantOptions(a.substr(kVariantPrefix.size())))
                            : createAccelerator(a, geometry);
             r.buildSeconds[a].push_back(secondsSince(start));
         }
     for (const std::string& a : r.accels) r.memory[a] = accel[a]->memoryBytes();
     r.kd = dynamic_cast<const KdTreeAccel&>(*accel["kdtree"]).stats();
-    for (int depth : opt.kdtreeDepths) {
-        const KdTreeStats& s =
-            dynamic_cast<const KdTreeAccel&>(*accel[depthVariant(depth)]).stats();
-        r.variantNodes[depthVariant(depth)] = s.interiorNodes + s.leaves;
+    for (const std::string& spec : opt.kdtreeVariants) {
+        const std::string a = std::string(kVariantPrefix) + spec;
+        r.variantStats[a] = dynamic_cast<const KdTreeAccel&>(*accel[a]).stats();
     }
 
     const std::vector<std::pair<std::string, std::vector<Ray>>> sets = {
@@ -338,19 +387,25 @@ void printTables(const std::vector<MeshResult>& results, const Options& opt, int
                       << " |\n";
         }
 
-    if (!opt.kdtreeDepths.empty()) {
-        std::cout << "\n### kd-tree depth limits: cost relative to the default kd-tree (> 1: "
-                     "slower), medians of the same interleaved rounds\n\n"
-                  << "| mesh | kd-tree | nodes | build |";
+    if (!opt.kdtreeVariants.empty()) {
+        std::cout
+            << "\n### kd-tree variants: cost relative to the default kd-tree (> 1: "
+               "slower), medians of the same interleaved rounds\n\n"
+            << "| mesh | kd-tree | nodes | empty leaves | references / triangle | MB | build |";
         for (const RayRow& row : results.front().rows)
             std::cout << " " << row.kind << " "
                       << (row.query == Query::Closest ? "closest" : "occluded") << " "
                       << row.threads << "T |";
-        std::cout << "\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        std::cout
+            << "\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         for (const MeshResult& r : results)
-            for (int depth : opt.kdtreeDepths) {
-                const std::string a = depthVariant(depth);
-                std::cout << "| " << r.name << " | " << a << " | " << r.variantNodes.at(a) << " | "
+            for (const std::string& spec : opt.kdtreeVariants) {
+                const std::string a = std::string(kVariantPrefix) + spec;
+                const KdTreeStats& s = r.variantStats.at(a);
+                std::cout << "| " << r.name << " | " << a << " | " << s.interiorNodes + s.leaves
+                          << " | " << s.emptyLeaves << " | "
+                          << fmt("%.2f", double(s.references) / double(r.triangles)) << " | "
+                          << fmt("%.2f", double(r.memory.at(a)) / (1024.0 * 1024.0)) << " | "
                           << ratioCell(median(r.buildSeconds.at(a)) /
                                        median(r.buildSeconds.at("kdtree")))
                           << " |";

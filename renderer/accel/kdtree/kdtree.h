@@ -14,16 +14,25 @@
 
 namespace caustic {
 
-/// Costs and limits of the SAH build. Costs are relative: only their ratio matters.
+/// Costs and limits of the SAH build. Costs are relative: only their ratio matters. The defaults
+/// were chosen with `bench_accel_rays --kdtree-variants` (bench/README.md, 2026-12-04): a test of
+/// eight triangles at once costs about a quarter of a node visit.
 struct KdTreeOptions {
-    float traversalCost = 1.0f;  ///< Visiting an interior node.
-    float intersectCost = 1.5f;  ///< Testing one primitive.
-    float emptyBonus = 0.3f;     ///< Discount for splits that cut off empty space, in [0, 1).
+    float traversalCost = 1.0f;   ///< Visiting an interior node.
+    float intersectCost = 0.25f;  ///< Testing one block of leafBlock primitives.
+    /// The leaf test's width, a power of two: a leaf of n primitives costs ceil(n / leafBlock)
+    /// tests, as Embree's SAH counts a node's primitives in blocks of its leaves' width
+    /// (kernels/builders/heuristic_binning.h). 1: every primitive costs one test (pbrt-v3).
+    uint32_t leafBlock = kd_leaf::kLanes;
+    float emptyBonus = 0.15f;  ///< Discount for splits that cut off empty space, in [0, 1).
     /// 0: 6 + 1.3 log2(N), at most kMaxDepth. pbrt-v3's 8 + 1.3 log2(N) made trees 1.4 to 1.9
     /// times as large, 1.3 to 1.8 times as slow to build, for rays as fast within the machine's
     /// noise (bunny, teapot, bunny-1m, primary and incoherent rays, 2026-12-03).
     int maxDepth = 0;
     bool clipPrimitives = true;  ///< Clip straddling primitives to child boxes ("perfect splits").
+
+    /// The tests a leaf of n primitives costs.
+    uint32_t leafTests(uint32_t n) const { return (n + leafBlock - 1) / leafBlock; }
 };
 
 /// What the build produced, for benchmarks and tests.

@@ -97,7 +97,7 @@ private:
         if (n <= 1 || depthLeft == 0 || !(surfaceAreaD(box) > 0.0)) return {};
         KdSplit split = n > kExactSplitLimit ? findBinnedSplit(refs, box, options_)
                                              : findExactSplit(refs, box, options_);
-        double leafCost = options_.intersectCost * double(n);
+        double leafCost = options_.intersectCost * double(options_.leafTests(uint32_t(n)));
         if (split.cost > leafCost) ++badRefines;
         if (split.axis < 0 || (split.cost > 4.0f * leafCost && n < 16) || badRefines == 3)
             return {};
@@ -192,8 +192,8 @@ private:
             ++stats.leaves;
             if (count == 0) ++stats.emptyLeaves;
             stats.references += count;
-            stats.sahCost += b_.options_.intersectCost * double(count) * b_.areaRatio(box) /
-                             b_.options_.traversalCost;
+            stats.sahCost += b_.options_.intersectCost * double(b_.options_.leafTests(count)) *
+                             b_.areaRatio(box) / b_.options_.traversalCost;
         }
 
     private:
@@ -329,6 +329,7 @@ private:
 KdTreeAccel::KdTreeAccel(const Geometry& geometry, const KdTreeOptions& options)
     : geometry_(geometry) {
     static_assert(sizeof(Node) == 8);
+    CAUSTIC_CHECK(std::has_single_bit(options.leafBlock));
     KdTreeBuilder(*this, options).build();
 }
 

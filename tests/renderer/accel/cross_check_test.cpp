@@ -4,10 +4,12 @@
 
 #include <atomic>
 #include <cstdio>
+#include <string>
 
 #include "accel/bruteforce.h"
 #include "accel/embree.h"
 #include "accel/kdtree/kdtree.h"
+#include "renderer/accel/kdtree_variants.h"
 #include "renderer/accel/ray_sets.h"
 #include "support/test_scenes.h"
 
@@ -277,11 +279,11 @@ void compare(const Geometry& g, const Reference& reference, const Accelerator& t
     }
 }
 
-void expectAgreement(const char* what, const Tally& t) {
+void expectAgreement(const std::string& what, const Tally& t) {
     std::printf(
-        "  %-22s rays %8llu  hits %8llu  ties: equal-distance %6llu, edge %6llu, origin %5llu; "
+        "  %-32s rays %8llu  hits %8llu  ties: equal-distance %6llu, edge %6llu, origin %5llu; "
         "refereed for ours %4llu (+%llu beyond 1e4); worst relative distance %.2e\n",
-        what, (unsigned long long)t.rays.load(), (unsigned long long)t.hits.load(),
+        what.c_str(), (unsigned long long)t.rays.load(), (unsigned long long)t.hits.load(),
         (unsigned long long)t.ties.load(), (unsigned long long)t.edgeTies.load(),
         (unsigned long long)t.originTies.load(), (unsigned long long)t.refereed.load(),
         (unsigned long long)t.refereedFar.load(), t.worstRelative);
@@ -309,13 +311,12 @@ std::vector<Ray> raysFor(const Geometry& g, const Accelerator& accel, size_t n, 
     return rays;
 }
 
-// Checks kd-tree and Embree against brute force on `bruteRays` rays, and against each other on
-// `rays` rays (brute force is O(N) per ray: too slow for a million rays on a large mesh).
+// Checks each kd-tree variant and Embree against brute force on `bruteRays` rays, and against each
+// other on `rays` rays (brute force is O(N) per ray: too slow for a million rays on a large mesh).
 void crossCheck(const Geometry& g, size_t rays, size_t bruteRays, uint64_t seed) {
     BruteForceAccel brute(g);
-    KdTreeAccel kdtree(g);
     EmbreeAccel embree(g);
-    std::vector<Ray> all = raysFor(g, kdtree, rays, seed);
+    std::vector<Ray> all = raysFor(g, KdTreeAccel(g), rays, seed);
     // CAUSTIC_BRUTE_RAYS raises the brute-force share (a million bunny rays take ~20 min here).
     if (const char* env = std::getenv("CAUSTIC_BRUTE_RAYS")) bruteRays = std::stoul(env);
     std::vector<Ray> some(all.begin(), all.begin() + std::min(bruteRays, all.size()));
@@ -325,13 +326,17 @@ void crossCheck(const Geometry& g, size_t rays, size_t bruteRays, uint64_t seed)
     // Brute force's own occlusion query, checked once against its closest hits.
     for (size_t i = 0; i < std::min<size_t>(some.size(), 2000); ++i)
         ASSERT_EQ(brute.occluded(some[i], 1e30f), bruteHits[i].has_value());
-    Tally kdBrute, emBrute, kdEmbree;
-    compare(g, Reference{nullptr, &bruteHits}, kdtree, some, /*exact=*/true, kdBrute);
+    Tally emBrute;
     compare(g, Reference{nullptr, &bruteHits}, embree, some, /*exact=*/false, emBrute);
-    compare(g, Reference{&kdtree, nullptr}, embree, all, /*exact=*/false, kdEmbree);
-    expectAgreement("kdtree vs bruteforce", kdBrute);
     expectAgreement("embree vs bruteforce", emBrute);
-    expectAgreement("embree vs kdtree", kdEmbree);
+    for (const KdTreeVariant& variant : kdTreeVariants()) {
+        KdTreeAccel kdtree(g, variant.options);
+        Tally kdBrute, kdEmbree;
+        compare(g, Reference{nullptr, &bruteHits}, kdtree, some, /*exact=*/true, kdBrute);
+        compare(g, Reference{&kdtree, nullptr}, embree, all, /*exact=*/false, kdEmbree);
+        expectAgreement(variant.name + " vs bruteforce", kdBrute);
+        expectAgreement("embree vs " + variant.name, kdEmbree);
+    }
 }
 
 constexpr size_t kMillion = 1000000;

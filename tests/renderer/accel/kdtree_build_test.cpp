@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "accel/kdtree/kdtree.h"
+#include "renderer/accel/kdtree_variants.h"
 #include "scene/mesh_loader.h"
 
 namespace caustic {
@@ -28,16 +29,19 @@ TEST(KdTreeBuild, SameTreeOnEveryThreadCount) {
                 "/meshes/stanford-bunny.obj");
     Geometry geometry;
     geometry.addTriangles(mesh.positions, mesh.triangles, 0);
-    const int threads = omp_get_max_threads();
-    omp_set_num_threads(1);
-    const KdTreeAccel serial(geometry);
-    omp_set_num_threads(std::max(threads, 4));
-    const KdTreeAccel parallel(geometry);
-    omp_set_num_threads(threads);
-    EXPECT_GT(serial.nodes().size(), 100000u);
-    EXPECT_EQ(serial.stats().interiorNodes, parallel.stats().interiorNodes);
-    EXPECT_EQ(serial.stats().sahCost, parallel.stats().sahCost);
-    EXPECT_TRUE(treeBytes(serial) == treeBytes(parallel));
+    for (const testing::KdTreeVariant& variant : testing::kdTreeVariants()) {
+        SCOPED_TRACE(variant.name);
+        const int threads = omp_get_max_threads();
+        omp_set_num_threads(1);
+        const KdTreeAccel serial(geometry, variant.options);
+        omp_set_num_threads(std::max(threads, 4));
+        const KdTreeAccel parallel(geometry, variant.options);
+        omp_set_num_threads(threads);
+        EXPECT_GT(serial.nodes().size(), 10000u);
+        EXPECT_EQ(serial.stats().interiorNodes, parallel.stats().interiorNodes);
+        EXPECT_EQ(serial.stats().sahCost, parallel.stats().sahCost);
+        EXPECT_TRUE(treeBytes(serial) == treeBytes(parallel));
+    }
 }
 
 }  // namespace

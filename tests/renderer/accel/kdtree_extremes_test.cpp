@@ -10,6 +10,7 @@
 
 #include "accel/bruteforce.h"
 #include "accel/kdtree/kdtree.h"
+#include "renderer/accel/kdtree_variants.h"
 #include "renderer/accel/ray_sets.h"
 #include "scene/mesh_loader.h"
 #include "support/accel_agreement.h"
@@ -33,19 +34,12 @@ Json hugeSphereScene(double center, double radius) {
     return doc;
 }
 
-// Builds the kd-tree and checks it against brute force on rays around the mesh (the sphere's
-// bounds would spread random rays over 1e38) and on the camera's rays.
+// Builds each kd-tree variant and checks it against brute force on rays around the mesh (the
+// sphere's bounds would spread random rays over 1e38) and on the camera's rays.
 void expectKdTreeMatchesBruteForce(const Json& doc) {
     std::unique_ptr<Scene> scene = testing::sceneFromJson(doc);
     const Geometry& g = scene->geometry;
-    KdTreeAccel kdtree(g);
     BruteForceAccel brute(g);
-
-    const KdTreeStats& stats = kdtree.stats();
-    EXPECT_GT(stats.interiorNodes, 0u) << "the SAH found no split: every primitive in one leaf";
-    EXPECT_TRUE(std::isfinite(stats.sahCost)) << stats.sahCost;
-    EXPECT_TRUE(isFinite(kdtree.bounds().lo) && isFinite(kdtree.bounds().hi));
-
     Bounds3 mesh;
     for (uint32_t prim = 0; prim + 1 < g.size(); ++prim) mesh.extend(g.bounds(prim));
     Rng rng(12);
@@ -57,7 +51,16 @@ void expectKdTreeMatchesBruteForce(const Json& doc) {
     for (int y = 0; y < camera.height(); y += 32)
         for (int x = 0; x < camera.width(); x += 32)
             rays.push_back(camera.generateRay(float(x) + 0.5f, float(y) + 0.5f));
-    EXPECT_EQ(testing::firstDisagreement(kdtree, brute, rays), std::nullopt);
+
+    for (const testing::KdTreeVariant& variant : testing::kdTreeVariants()) {
+        SCOPED_TRACE(variant.name);
+        KdTreeAccel kdtree(g, variant.options);
+        const KdTreeStats& stats = kdtree.stats();
+        EXPECT_GT(stats.interiorNodes, 0u) << "the SAH found no split: every primitive in one leaf";
+        EXPECT_TRUE(std::isfinite(stats.sahCost)) << stats.sahCost;
+        EXPECT_TRUE(isFinite(kdtree.bounds().lo) && isFinite(kdtree.bounds().hi));
+        EXPECT_EQ(testing::firstDisagreement(kdtree, brute, rays), std::nullopt);
+    }
 }
 
 TEST(KdTreeExtremes, SphereOfRadius3e38BesideAMesh) {
@@ -78,7 +81,8 @@ TEST(KdTreeExtremes, EmptyLeafBesideOnePrimitiveLeaves) {
     TriangleMesh mesh = parseObj(obj, "empty-leaf.obj", MeshTransform{}, "/file");
     Geometry g;
     g.addTriangles(mesh.positions, mesh.triangles, 0);
-    KdTreeAccel kdtree(g);
+    // The finest tree has that shape; the default one puts both primitives in one leaf.
+    KdTreeAccel kdtree(g, testing::kdTreeVariants().back().options);
     BruteForceAccel brute(g);
     const KdTreeStats& stats = kdtree.stats();
     ASSERT_GT(stats.emptyLeaves, 0u);

@@ -1,7 +1,8 @@
 // The exact split search counts each boundary's predecessors by comparisons instead of sorting.
 // It must choose what pbrt-v3's sweep over sorted events chooses (4.4.2): the same axis, plane and
-// cost, ties included. The references' bounds here are drawn from a few values per axis, so that
-// many boundaries coincide, starts with ends and with the box's faces.
+// cost, ties included, with leaves costed per primitive as there or per block of primitives. The
+// references' bounds here are drawn from a few values per axis, so that many boundaries coincide,
+// starts with ends and with the box's faces.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -44,9 +45,11 @@ KdSplit sweepSortedEvents(const std::vector<KdRef>& refs, const Bounds3& box,
                 const double below = cap + (double(e.pos) - box.lo[axis]) * ring;
                 const double above = cap + (double(box.hi[axis]) - e.pos) * ring;
                 const double bonus = (nBelow == 0 || nAbove == 0) ? options.emptyBonus : 0.0;
+                const double testsBelow = options.leafTests(uint32_t(nBelow));
+                const double testsAbove = options.leafTests(uint32_t(nAbove));
                 const double c =
                     options.traversalCost + options.intersectCost * (1.0 - bonus) *
-                                                (below * double(nBelow) + above * double(nAbove));
+                                                (below * testsBelow + above * testsAbove);
                 if (c < best.cost) best = KdSplit{axis, e.pos, c};
             }
             if (!e.isEnd) ++nBelow;
@@ -79,8 +82,12 @@ TEST(KdTreeSplit, ExactSearchChoosesWhatTheSortedSweepChooses) {
             }
             refs.push_back(r);
         }
+        // Blocks of leaf tests make runs of equal costs (a start or an end that does not change
+        // a side's block count): the first of them must still win.
         KdTreeOptions options;
         options.emptyBonus = (trial % 3 == 0) ? 0.0f : 0.3f;
+        options.leafBlock = 1u << (trial % 4);
+        options.intersectCost = (trial % 2 == 0) ? 1.5f : 0.25f;
         const KdSplit want = sweepSortedEvents(refs, box, options);
         const KdSplit got = findExactSplit(refs, box, options);
         ASSERT_EQ(got.axis, want.axis) << "trial " << trial << ", " << n << " references";

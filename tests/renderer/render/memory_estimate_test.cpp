@@ -49,7 +49,7 @@ TEST(MemoryEstimate, BoundsWhatTheExampleScenesBuild) {
             EXPECT_GT(e.lightTables, 0u);
             const size_t built = createAccelerator(accel, loaded->geometry)->memoryBytes();
             EXPECT_GE(e.accelerator, built);
-            // Within 3x of the build (measured: 1.4x for Embree and 2.5x for the kd-tree on the
+            // Within 3x of the build (measured: 1.4x for Embree and 2.3x for the kd-tree on the
             // bunny; the small scenes are the fixed part).
             if (loaded->geometry.size() > 1000) {
                 EXPECT_LE(e.accelerator, 3 * built);
