@@ -46,6 +46,16 @@ struct Options {
 
 constexpr std::string_view kVariantPrefix = "kdtree ";
 
+// KdTreeOptions::leafBlock, which renderers before a5fb0cb lack: the A/B scripts build this file
+// against older revisions too (ab_common.sh).
+template <class Options>
+void setLeafBlock(Options& o, uint32_t block) {
+    if constexpr (requires { o.leafBlock; })
+        o.leafBlock = block;
+    else
+        throw std::invalid_argument("this renderer's kd-tree has no leafBlock");
+}
+
 // The options of a variant "key=value[:key=value...]" (keys: depth, traversal, intersect, block,
 // bonus); throws on anything else.
 KdTreeOptions variantOptions(const std::string& spec) {
@@ -68,7 +78,7 @@ KdTreeOptions variantOptions(const std::string& spec) {
             o.intersectCost = float(v);
         else if (key == "block" && v >= 1 && v <= 1024 && std::has_single_bit(uint32_t(v)) &&
                  v == std::floor(v))
-            o.leafBlock = uint32_t(v);
+            setLeafBlock(o, uint32_t(v));
         else if (key == "bonus" && v >= 0 && v < 1)
             o.emptyBonus = float(v);
         else
