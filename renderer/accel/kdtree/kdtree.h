@@ -22,9 +22,10 @@ namespace caustic {
 struct KdTreeOptions {
     float traversalCost = 1.0f;   ///< Visiting an interior node.
     float intersectCost = 0.25f;  ///< Testing one block of leafBlock primitives.
-    /// The leaf test's width, a power of two: a leaf of n primitives costs ceil(n / leafBlock)
+    /// The leaf test's width, a power of two: a leaf of n triangles costs ceil(n / leafBlock)
     /// tests, as Embree's SAH counts a node's primitives in blocks of its leaves' width
-    /// (kernels/builders/heuristic_binning.h). 1: every primitive costs one test (pbrt-v3).
+    /// (kernels/builders/heuristic_binning.h); any other primitive costs a test by itself.
+    /// 1: every primitive costs one test (pbrt-v3).
     uint32_t leafBlock = kd_leaf::kLanes;
     float emptyBonus = 0.15f;  ///< Discount for splits that cut off empty space, in [0, 1).
     /// 0: 6 + 1.3 log2(N), at most kMaxDepth. pbrt-v3's 8 + 1.3 log2(N) made trees 1.4 to 1.9
@@ -33,7 +34,7 @@ struct KdTreeOptions {
     int maxDepth = 0;
     bool clipPrimitives = true;  ///< Clip straddling primitives to child boxes ("perfect splits").
 
-    /// The tests a leaf of n primitives costs.
+    /// The tests a leaf of n triangles costs.
     uint32_t leafTests(uint32_t n) const { return (n + leafBlock - 1) / leafBlock; }
 };
 

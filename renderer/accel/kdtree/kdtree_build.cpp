@@ -64,10 +64,17 @@ public:
         uint32_t n = geometry_.size();
         std::vector<KdRef> refs(n);
         Bounds3 box;
+        uint64_t weights = 0;
         for (uint32_t p = 0; p < n; ++p) {
-            refs[p] = KdRef{finiteBox(fuzzyBounds(geometry_, p)), p};
+            const uint32_t weight =
+                geometry_.kind(p) == PrimKind::Triangle ? 1u : options_.leafBlock;
+            refs[p] = KdRef{finiteBox(fuzzyBounds(geometry_, p)), p, weight};
             box.extend(refs[p].b);
+            weights += weight;
         }
+        // Sums of weights are 32-bit; so are the primitive indices. A node's references are
+        // a subset of the root's.
+        CAUSTIC_CHECK_LT(weights, uint64_t(1) << 32);
         tree_.bounds_ = box;
         rootArea_ = surfaceAreaD(box);
         int maxDepth = options_.maxDepth > 0
@@ -97,7 +104,7 @@ private:
         if (n <= 1 || depthLeft == 0 || !(surfaceAreaD(box) > 0.0)) return {};
         KdSplit split = n > kExactSplitLimit ? findBinnedSplit(refs, box, options_)
                                              : findExactSplit(refs, box, options_);
-        double leafCost = options_.intersectCost * double(options_.leafTests(uint32_t(n)));
+        double leafCost = options_.intersectCost * double(options_.leafTests(totalWeight(refs)));
         if (split.cost > leafCost) ++badRefines;
         if (split.axis < 0 || (split.cost > 4.0f * leafCost && n < 16) || badRefines == 3)
             return {};
@@ -129,8 +136,8 @@ private:
                 }
                 b = Bounds3{glm::max(b.lo, r.b.lo), glm::min(b.hi, r.b.hi)};
                 a = Bounds3{glm::max(a.lo, r.b.lo), glm::min(a.hi, r.b.hi)};
-                if (!b.empty()) below.push_back(KdRef{b, r.prim});
-                if (!a.empty()) above.push_back(KdRef{a, r.prim});
+                if (!b.empty()) below.push_back(KdRef{b, r.prim, r.weight});
+                if (!a.empty()) above.push_back(KdRef{a, r.prim, r.weight});
             }
         }
     }
@@ -192,7 +199,9 @@ private:
             ++stats.leaves;
             if (count == 0) ++stats.emptyLeaves;
             stats.references += count;
-            stats.sahCost += b_.options_.intersectCost * double(b_.options_.leafTests(count)) *
+            stats.sahCost += b_.options_.intersectCost *
+                             double(b_.options_.leafTests(
+                                 totalWeight(std::span(stack_).subspan(begin, count)))) *
                              b_.areaRatio(box) / b_.options_.traversalCost;
         }
 

@@ -57,6 +57,12 @@ private:
 
 }  // namespace
 
+uint32_t totalWeight(std::span<const KdRef> refs) {
+    uint32_t sum = 0;
+    for (const KdRef& r : refs) sum += r.weight;
+    return sum;
+}
+
 double surfaceAreaD(const Bounds3& b) {
     if (b.empty()) return 0.0;
     glm::dvec3 d = diagonalD(b);
@@ -73,11 +79,12 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
         extent[axis] = double(box.hi[axis]) - lo[axis];
         scale[axis] = extent[axis] > 0.0 ? kBins / extent[axis] : 0.0;
     }
-    uint32_t starts[3][kBins] = {}, ends[3][kBins] = {};
+    uint32_t starts[3][kBins] = {}, ends[3][kBins] = {};  // weights
+    const uint32_t total = totalWeight(refs);
     for (const KdRef& r : refs) {
         for (int axis = 0; axis < 3; ++axis) {
-            ++starts[axis][binOf((component(r.b.lo, axis) - lo[axis]) * scale[axis])];
-            ++ends[axis][binOf((component(r.b.hi, axis) - lo[axis]) * scale[axis])];
+            starts[axis][binOf((component(r.b.lo, axis) - lo[axis]) * scale[axis])] += r.weight;
+            ends[axis][binOf((component(r.b.hi, axis) - lo[axis]) * scale[axis])] += r.weight;
         }
     }
     constexpr double kInfinityD = std::numeric_limits<double>::infinity();
@@ -89,7 +96,7 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
         // a box a few floats wide has bin edges that round onto its faces), then the cheapest.
         uint32_t nBelow[kBins], nAbove[kBins];
         nBelow[0] = 0;
-        nAbove[0] = uint32_t(refs.size());
+        nAbove[0] = total;
         for (int i = 1; i < kBins; ++i) {
             nBelow[i] = nBelow[i - 1] + starts[axis][i - 1];
             nAbove[i] = nAbove[i - 1] - ends[axis][i - 1];
@@ -110,26 +117,29 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
 }
 
 // The sweep of pbrt-v3 4.4.2 visits the 2n boundaries in sorted order, starts before ends at equal
-// positions, and keeps the first of equal costs. Here each boundary's counts come from comparisons
-// with all the others instead: a start s is preceded by the starts and the ends strictly below it,
-// an end e by the starts at or below it and the ends at or below it but itself. Boundaries of
-// equal kind and position need no order among them: the sweep's cost rises with each start of such
-// a run (one more reference below) and falls with each end (one fewer above), so it keeps the
-// run's first start and last end, and these counts give every member of a run exactly that one's
-// counts, sweep position and cost. That is 4n^2 comparisons per axis for at most 64 references,
-// made a boundary per vector lane, in place of two sorts and a merge whose branches mispredict on
-// every other boundary. The sweep position breaks ties between equal costs, so the split is the
-// sweep's.
+// positions, and keeps the first of equal costs. Here each boundary's counts (weights, KdRef) come
+// from comparisons with all the others instead: a start s is preceded by the starts and the ends
+// strictly below it, an end e by the starts at or below it and the ends at or below it but itself.
+// Boundaries of equal kind and position need no order among them: the sweep's cost never falls
+// with a start of such a run (more weight below) and never rises with an end (less above), so the
+// run's first start and last end are its cheapest, and these counts give every member of a run
+// that one's counts and cost, at the same position. The sum of a boundary's predecessors' weights
+// is its position in the sweep, up to the order within its run, and breaks ties between equal
+// costs, so the split is the sweep's. That is 4n^2 comparisons per axis for at most 64
+// references, made a boundary per vector lane, in place of two sorts and a merge whose branches
+// mispredict on every other boundary.
 KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
                        const KdTreeOptions& options) {
     const auto n = uint32_t(refs.size());
     CAUSTIC_CHECK_LE(n, kExactSplitLimit);
+    const uint32_t total = totalWeight(refs);
     // Padded to whole vectors with +infinity, which no count includes, so the loops over lanes
     // run without a remainder.
     constexpr uint32_t kLanes = 16;
     const uint32_t padded = (n + kLanes - 1) / kLanes * kLanes;
     alignas(64) float starts[kExactSplitLimit], ends[kExactSplitLimit];
-    // A boundary's cost and its position in the sweep (the count of its predecessors).
+    alignas(64) uint32_t weights[kExactSplitLimit];
+    // A boundary's cost and its position in the sweep (the weight of its predecessors).
     alignas(64) double startCost[kExactSplitLimit], endCost[kExactSplitLimit];
     alignas(64) uint32_t startOrder[kExactSplitLimit], endOrder[kExactSplitLimit];
     constexpr double kInfinityD = std::numeric_limits<double>::infinity();
@@ -140,10 +150,14 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
         for (uint32_t i = 0; i < n; ++i) {
             starts[i] = component(refs[i].b.lo, axis);
             ends[i] = component(refs[i].b.hi, axis);
+            weights[i] = refs[i].weight;
         }
-        for (uint32_t i = n; i < padded; ++i) starts[i] = ends[i] = kInfinity;
+        for (uint32_t i = n; i < padded; ++i) {
+            starts[i] = ends[i] = kInfinity;
+            weights[i] = 0;
+        }
         const SplitCost cost(options, box, axis);
-        // A block of 16 boundaries at a time: its four counts in registers, then their costs,
+        // A block of 16 boundaries at a time: its four sums in registers, then their costs,
         // +infinity outside the box (never chosen; nor is the padding, +infinity). The end itself
         // has passed when the sweep evaluates it.
         for (uint32_t i0 = 0; i0 < padded; i0 += kLanes) {
@@ -151,22 +165,23 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
                      eBeforeE[kLanes] = {};
             for (uint32_t j = 0; j < n; ++j) {
                 const float sj = starts[j], ej = ends[j];
+                const uint32_t wj = weights[j];
                 for (uint32_t l = 0; l < kLanes; ++l) {
                     const float s = starts[i0 + l], e = ends[i0 + l];
-                    // Selects, which compile to one masked add each (an add of 0 or 1 takes
+                    // Selects, which compile to one masked add each (an add of 0 or wj takes
                     // a compare, a masked move and an add).
-                    sBeforeS[l] = sj < s ? sBeforeS[l] + 1 : sBeforeS[l];
-                    eBeforeS[l] = ej < s ? eBeforeS[l] + 1 : eBeforeS[l];
-                    sBeforeE[l] = sj <= e ? sBeforeE[l] + 1 : sBeforeE[l];
-                    eBeforeE[l] = ej <= e ? eBeforeE[l] + 1 : eBeforeE[l];
+                    sBeforeS[l] = sj < s ? sBeforeS[l] + wj : sBeforeS[l];
+                    eBeforeS[l] = ej < s ? eBeforeS[l] + wj : eBeforeS[l];
+                    sBeforeE[l] = sj <= e ? sBeforeE[l] + wj : sBeforeE[l];
+                    eBeforeE[l] = ej <= e ? eBeforeE[l] + wj : eBeforeE[l];
                 }
             }
             for (uint32_t l = 0; l < kLanes; ++l) {
                 const uint32_t i = i0 + l;
                 const float s = starts[i], e = ends[i];
-                const uint32_t endsBeforeEnd = eBeforeE[l] - 1;  // not itself
-                const double sc = cost(s, sBeforeS[l], n - eBeforeS[l]);
-                const double ec = cost(e, sBeforeE[l], n - endsBeforeEnd - 1);
+                const uint32_t endsBeforeEnd = eBeforeE[l] - weights[i];  // not itself
+                const double sc = cost(s, sBeforeS[l], total - eBeforeS[l]);
+                const double ec = cost(e, sBeforeE[l], total - eBeforeE[l]);
                 startCost[i] = ((s > lo) & (s < hi)) ? sc : kInfinityD;
                 endCost[i] = ((e > lo) & (e < hi)) ? ec : kInfinityD;
                 startOrder[i] = sBeforeS[l] + eBeforeS[l];

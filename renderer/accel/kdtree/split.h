@@ -10,11 +10,18 @@
 
 namespace caustic {
 
-/// A primitive's reference in a node of the build: its bounds clipped to the node's box.
+/// A primitive's reference in a node of the build: its bounds clipped to the node's box, and its
+/// weight in the SAH's counts: 1 for a triangle, which a leaf tests leafBlock at a time, and
+/// leafBlock for any other primitive (a sphere or a quad), which it tests by itself
+/// (KdTreeOptions). The searches below count weights where they would count references.
 struct KdRef {
     Bounds3 b;
     uint32_t prim;
+    uint32_t weight = 1;
 };
+
+/// The weights of `refs`, summed.
+uint32_t totalWeight(std::span<const KdRef> refs);
 
 struct KdSplit {
     int axis = -1;  ///< -1: no plane inside the box

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <vector>
 
 #include "accel/kdtree/kdtree.h"
 #include "renderer/accel/kdtree_variants.h"
@@ -42,6 +43,33 @@ TEST(KdTreeBuild, SameTreeOnEveryThreadCount) {
         EXPECT_EQ(serial.stats().sahCost, parallel.stats().sahCost);
         EXPECT_TRUE(treeBytes(serial) == treeBytes(parallel));
     }
+}
+
+// A leaf tests eight triangles at once but spheres one by one, and the SAH counts them so: the same
+// grid of small shapes makes leaves of fewer than eight spheres (4.5 on average; 16 when spheres
+// were counted as triangles) but of more than eight triangles.
+TEST(KdTreeBuild, LeavesHoldTrianglesByTheBlockAndSpheresOneByOne) {
+    auto meanLeaf = [](const KdTreeAccel& tree) {
+        const KdTreeStats& s = tree.stats();
+        return double(s.references) / double(s.leaves - s.emptyLeaves);
+    };
+    Geometry spheres, triangles;
+    std::vector<Vec3> p;
+    std::vector<glm::uvec3> tris;
+    for (int x = 0; x < 16; ++x)
+        for (int y = 0; y < 16; ++y)
+            for (int z = 0; z < 16; ++z) {
+                const Vec3 c{float(x), float(y), float(z)};
+                spheres.addSphere(Sphere{c, 0.1f}, 0);
+                const auto base = uint32_t(p.size());
+                p.insert(p.end(), {c, c + Vec3(0.2f, 0.0f, 0.0f), c + Vec3(0.0f, 0.2f, 0.1f)});
+                tris.push_back(glm::uvec3(base, base + 1, base + 2));
+            }
+    triangles.addTriangles(p, tris, 0);
+    const double sphereLeaf = meanLeaf(KdTreeAccel(spheres));
+    const double triangleLeaf = meanLeaf(KdTreeAccel(triangles));
+    EXPECT_LT(sphereLeaf, 8.0);
+    EXPECT_GT(triangleLeaf, 8.0);
 }
 
 }  // namespace
