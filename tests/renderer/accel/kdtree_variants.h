@@ -1,6 +1,6 @@
 // The kd-trees the accelerator tests build: the default one, and the finest the SAH builds (every
-// primitive one test, pbrt-v3's costs: twice the default's depth in places, ten times its nodes on
-// the bunny), whose many planes put more rays in, along and through split planes.
+// primitive one test, pbrt-v3's costs: on the bunny 18 times the default's nodes and 27 levels
+// against 18), whose many planes put more rays in, along and through split planes.
 #pragma once
 
 #include <string>
