@@ -104,9 +104,8 @@ private:
         if (n <= 1 || depthLeft == 0 || !(surfaceAreaD(box) > 0.0)) return {};
         KdSplit split = n > kExactSplitLimit ? findBinnedSplit(refs, box, options_)
                                              : findExactSplit(refs, box, options_);
-        double leafCost = options_.intersectCost * double(options_.leafTests(totalWeight(refs)));
-        if (split.cost > leafCost) ++badRefines;
-        if (split.axis < 0 || (split.cost > 4.0f * leafCost && n < 16) || badRefines == 3)
+        if (split.cost > split.leafCost) ++badRefines;
+        if (split.axis < 0 || (split.cost > 4.0f * split.leafCost && n < 16) || badRefines == 3)
             return {};
         return split;
     }
@@ -199,10 +198,9 @@ private:
             ++stats.leaves;
             if (count == 0) ++stats.emptyLeaves;
             stats.references += count;
-            stats.sahCost += b_.options_.intersectCost *
-                             double(b_.options_.leafTests(
-                                 totalWeight(std::span(stack_).subspan(begin, count)))) *
-                             b_.areaRatio(box) / b_.options_.traversalCost;
+            stats.sahCost +=
+                leafCost(b_.options_, totalWeight(std::span(stack_).subspan(begin, count))) *
+                b_.areaRatio(box) / b_.options_.traversalCost;
         }
 
     private:

@@ -80,8 +80,9 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
         scale[axis] = extent[axis] > 0.0 ? kBins / extent[axis] : 0.0;
     }
     uint32_t starts[3][kBins] = {}, ends[3][kBins] = {};  // weights
-    const uint32_t total = totalWeight(refs);
+    uint32_t total = 0;
     for (const KdRef& r : refs) {
+        total += r.weight;
         for (int axis = 0; axis < 3; ++axis) {
             starts[axis][binOf((component(r.b.lo, axis) - lo[axis]) * scale[axis])] += r.weight;
             ends[axis][binOf((component(r.b.hi, axis) - lo[axis]) * scale[axis])] += r.weight;
@@ -113,6 +114,7 @@ KdSplit findBinnedSplit(std::span<const KdRef> refs, const Bounds3& box,
         for (int i = 1; i < kBins; ++i)
             if (edgeCost[i] < best.cost) best = KdSplit{axis, pos[i], edgeCost[i]};
     }
+    best.leafCost = leafCost(options, total);
     return best;
 }
 
@@ -207,6 +209,7 @@ KdSplit findExactSplit(std::span<const KdRef> refs, const Bounds3& box,
         }
         if (found) best = KdSplit{axis, axisPos, axisCost};
     }
+    best.leafCost = leafCost(options, total);
     return best;
 }
 

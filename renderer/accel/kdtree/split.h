@@ -23,10 +23,17 @@ struct KdRef {
 /// The weights of `refs`, summed.
 uint32_t totalWeight(std::span<const KdRef> refs);
 
+/// The SAH cost of a leaf of references weighing `weight` in all, relative to traversalCost's
+/// units as KdSplit::cost (its area ratio aside).
+inline double leafCost(const KdTreeOptions& options, uint32_t weight) {
+    return options.intersectCost * double(options.leafTests(weight));
+}
+
 struct KdSplit {
     int axis = -1;  ///< -1: no plane inside the box
     float pos = 0.0f;
     double cost = std::numeric_limits<double>::infinity();
+    double leafCost = 0.0;  ///< The node's cost as a leaf, to compare with `cost`.
 };
 
 /// Nodes of more references than this choose among bin edges, smaller ones among every boundary.
