@@ -39,7 +39,7 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
     // Locals whose address is never taken, and the arrays' data pointers, which stores through
     // `best` could otherwise alias: the loop keeps them in registers instead of reloading them.
     float tMin = tEnter, tEnd = tExit;
-    const float org[3] = {ray.o.x, ray.o.y, ray.o.z}, inv[3] = {invDir.x, invDir.y, invDir.z};
+    const Vec3 org = ray.o;
     const bool negative[3] = {std::signbit(ray.d.x), std::signbit(ray.d.y), std::signbit(ray.d.z)};
     const Node* nodes = nodes_.data();
     const uint32_t* leafData = leafData_.data();
@@ -65,7 +65,7 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
             // free of branches were 1.3 to 1.85 times as slow on primary rays, and at most 1.17
             // times as fast on random ones; bench/README.md).
             const int axis = node.axis();
-            const float tPlane = (node.split - org[axis]) * inv[axis];
+            const float tPlane = (node.split - component(org, axis)) * component(invDir, axis);
             const uint32_t below = index + 1, above = node.aboveChild();
             const uint32_t nearChild = negative[axis] ? above : below;
             const uint32_t farChild = negative[axis] ? below : above;
