@@ -6,14 +6,6 @@
 namespace caustic {
 namespace {
 
-int maxDimension(const Vec3& v) {
-    return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2);
-}
-
-Vec3 permute(const Vec3& v, int x, int y, int z) {
-    return Vec3(v[x], v[y], v[z]);
-}
-
 // The barycentric t cannot tell the hit from the ray's origin: decide in double with the
 // triangle's plane. The inputs are floats, so the plane distance is exact to a few ulps of double;
 // accepting only t above that bound keeps a ray that starts on the triangle (after its origin
@@ -72,19 +64,6 @@ std::optional<TriangleHit> intersectInDouble(const WatertightRay& wr, float tMax
 }
 
 }  // namespace
-
-WatertightRay::WatertightRay(const Ray& r) : ray(r) {
-    kz = maxDimension(glm::abs(r.d));
-    kx = kz + 1 == 3 ? 0 : kz + 1;
-    ky = kx + 1 == 3 ? 0 : kx + 1;
-    Vec3 d = permute(r.d, kx, ky, kz);
-    sx = -d.x / d.z;
-    sy = -d.y / d.z;
-    sz = 1.0f / d.z;
-    ox = r.o[kx];
-    oy = r.o[ky];
-    oz = r.o[kz];
-}
 
 std::optional<TriangleHit> intersectTriangle(const WatertightRay& wr, float tMax, const Vec3& p0,
                                              const Vec3& p1, const Vec3& p2) {

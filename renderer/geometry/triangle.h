@@ -25,6 +25,22 @@ struct WatertightRay {
     explicit WatertightRay(const Ray& r);
 };
 
+// Inline: every accelerator query builds one, and a call per ray cost the kd-tree's incoherent
+// rays a few percent.
+inline WatertightRay::WatertightRay(const Ray& r) : ray(r) {
+    const Vec3 a = glm::abs(r.d);
+    kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    kx = kz + 1 == 3 ? 0 : kz + 1;
+    ky = kx + 1 == 3 ? 0 : kx + 1;
+    const float dz = component(r.d, kz);
+    sx = -component(r.d, kx) / dz;
+    sy = -component(r.d, ky) / dz;
+    sz = 1.0f / dz;
+    ox = component(r.o, kx);
+    oy = component(r.o, ky);
+    oz = component(r.o, kz);
+}
+
 /// a*b - c*d with one rounding error, by Kahan's algorithm with FMA (pbrt-v4, section B.2.9).
 inline float differenceOfProducts(float a, float b, float c, float d) {
     float cd = c * d;

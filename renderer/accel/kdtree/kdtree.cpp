@@ -12,19 +12,21 @@ namespace {
 // must never skip a node the ray enters (pbrt-v3 3.9.2 uses 1 + 2 gamma(3) for box slabs).
 constexpr float kSlack = 2.0f * gamma(3);
 
-// Clips [t0, t1] to the box; false when the ray misses it.
-bool clipToBox(const Bounds3& box, const Ray& ray, const Vec3& invDir, float& t0, float& t1) {
+// Clips [t0, t1] to the box; false when the ray misses it. The slabs' near and far sides come
+// from the direction's signs, and the updates are min and max, without branches. A NaN (a zero
+// direction component with the origin on a slab) fails both comparisons and leaves the range
+// alone.
+inline bool clipToBox(const Bounds3& box, const Vec3& org, const Vec3& invDir,
+                      const bool negative[3], float& t0, float& t1) {
     for (int a = 0; a < 3; ++a) {
-        float tNear = (box.lo[a] - ray.o[a]) * invDir[a];
-        float tFar = (box.hi[a] - ray.o[a]) * invDir[a];
-        if (tNear > tFar) std::swap(tNear, tFar);
-        tFar *= 1.0f + kSlack;
-        // NaN (a zero direction component with the origin on a slab) leaves the range alone.
-        if (tNear > t0) t0 = tNear;
-        if (tFar < t1) t1 = tFar;
-        if (t0 > t1) return false;
+        const float tLo = (component(box.lo, a) - component(org, a)) * component(invDir, a);
+        const float tHi = (component(box.hi, a) - component(org, a)) * component(invDir, a);
+        const float tNear = negative[a] ? tHi : tLo;
+        const float tFar = (negative[a] ? tLo : tHi) * (1.0f + kSlack);
+        t0 = tNear > t0 ? tNear : t0;
+        t1 = tFar < t1 ? tFar : t1;
     }
-    return true;
+    return t0 <= t1;
 }
 
 }  // namespace
@@ -32,15 +34,14 @@ bool clipToBox(const Bounds3& box, const Ray& ray, const Vec3& invDir, float& t0
 template <bool AnyHit>
 bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimHit& best) const {
     if (nodes_.empty()) return false;
-    Vec3 invDir = 1.0f / ray.d;
-    const WatertightRay wr(ray);
-    float tEnter = 0.0f, tExit = tMax;
-    if (!clipToBox(bounds_, ray, invDir, tEnter, tExit)) return false;
     // Locals whose address is never taken, and the arrays' data pointers, which stores through
     // `best` could otherwise alias: the loop keeps them in registers instead of reloading them.
-    float tMin = tEnter, tEnd = tExit;
     const Vec3 org = ray.o;
+    const Vec3 invDir = 1.0f / ray.d;
     const bool negative[3] = {std::signbit(ray.d.x), std::signbit(ray.d.y), std::signbit(ray.d.z)};
+    float tMin = 0.0f, tEnd = tMax;
+    if (!clipToBox(bounds_, org, invDir, negative, tMin, tEnd)) return false;
+    const WatertightRay wr(ray);
     const Node* nodes = nodes_.data();
     const uint32_t* leafData = leafData_.data();
 
@@ -89,7 +90,8 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
             for (uint32_t lanes = mayHitLanes(leaf, count, first, wr); lanes != 0;
                  lanes &= lanes - 1u) {
                 const uint32_t i = first + uint32_t(std::countr_zero(lanes));
-                const uint32_t prim = leaf[kd_leaf::primitives(count) + i];
+                const uint32_t word = leaf[kd_leaf::primitives(count) + i];
+                const uint32_t prim = word & ~kd_leaf::kOtherKind;
                 const auto vertex = [&](int v) {
                     Vec3 p;
                     for (int a = 0; a < 3; ++a)
@@ -98,9 +100,9 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
                     return p;
                 };
                 auto h =
-                    geometry_.kind(prim) == PrimKind::Triangle
-                        ? Geometry::intersectVertices(wr, closest, vertex(0), vertex(1), vertex(2))
-                        : geometry_.intersect(prim, wr, closest);
+                    word & kd_leaf::kOtherKind
+                        ? geometry_.intersect(prim, wr, closest)
+                        : Geometry::intersectVertices(wr, closest, vertex(0), vertex(1), vertex(2));
                 if (h) {
                     if constexpr (AnyHit) return true;
                     closest = h->t;

@@ -72,9 +72,10 @@ public:
             box.extend(refs[p].b);
             weights += weight;
         }
-        // Sums of weights are 32-bit; so are the primitive indices. A node's references are
-        // a subset of the root's.
+        // Sums of weights are 32-bit; so are the primitive indices, whose top bit the leaves
+        // use (kd_leaf::kOtherKind). A node's references are a subset of the root's.
         CAUSTIC_CHECK_LT(weights, uint64_t(1) << 32);
+        CAUSTIC_CHECK_LT(n, kd_leaf::kOtherKind);
         tree_.bounds_ = box;
         rootArea_ = surfaceAreaD(box);
         int maxDepth = options_.maxDepth > 0
@@ -218,8 +219,11 @@ private:
         uint32_t* leaf = data.data() + base;
         for (uint32_t i = 0; i < n; ++i) {
             const uint32_t prim = refs[i].prim;
+            if (geometry_.kind(prim) != PrimKind::Triangle) {
+                leaf[kd_leaf::primitives(n) + i] = prim | kd_leaf::kOtherKind;
+                continue;
+            }
             leaf[kd_leaf::primitives(n) + i] = prim;
-            if (geometry_.kind(prim) != PrimKind::Triangle) continue;
             Vec3 p[3];
             geometry_.triangleVertices(geometry_.localIndex(prim), p[0], p[1], p[2]);
             for (int v = 0; v < 3; ++v)

@@ -4,7 +4,7 @@
 // vertex 2's), then the n primitive indices. So each coordinate of eight triangles is one vector
 // load, as in Embree's Triangle4v, but a leaf is not padded to a multiple of the vector: its lanes
 // past n read the next coordinate's words and are masked off. Triangles only: a lane that is
-// another primitive (sphere, quad) has zero vertices.
+// another primitive (sphere, quad) has zero vertices, and its primitive word is marked.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +33,11 @@ inline uint32_t coordinate(uint32_t n, int v, int axis) {
 inline uint32_t primitives(uint32_t n) {
     return 9 * n;
 }
+
+/// The top bit of a primitive word marks a primitive other than a triangle, so that the traversal
+/// tells the kinds apart without reading the primitive's record: a load that missed the cache on
+/// incoherent rays. The builder checks that primitive indices stay below it.
+constexpr uint32_t kOtherKind = 1u << 31;
 
 }  // namespace kd_leaf
 
