@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 #include <iterator>
+#include <span>
 #include <vector>
 
 #include "accel/kdtree/kdtree.h"
@@ -76,6 +77,44 @@ TEST(KdTreeBuild, LeavesHoldTrianglesByTheBlockAndSpheresOneByOne) {
     const double triangleLeaf = meanLeaf(KdTreeAccel(triangles));
     EXPECT_LT(sphereLeaf, 8.0);
     EXPECT_GT(triangleLeaf, 8.0);
+}
+
+// A leaf's lane is tested as a triangle, from the vertices the leaf holds, unless its primitive
+// word is marked as another kind (kd_leaf::kOtherKind): the mark must be exactly right, or a sphere
+// is tested as a triangle of zero vertices, or a triangle through the geometry's records.
+TEST(KdTreeBuild, MarksPrimitivesOtherThanTriangles) {
+    Geometry geometry;
+    std::vector<Vec3> p;
+    std::vector<glm::uvec3> tris;
+    for (int x = 0; x < 8; ++x)
+        for (int y = 0; y < 8; ++y)
+            for (int z = 0; z < 8; ++z) {
+                const Vec3 c{float(x), float(y), float(z)};
+                if ((x + y + z) % 3 == 0) {
+                    geometry.addSphere(Sphere{c, 0.1f}, 0);
+                    continue;
+                }
+                const auto base = uint32_t(p.size());
+                p.insert(p.end(), {c, c + Vec3(0.2f, 0.0f, 0.0f), c + Vec3(0.0f, 0.2f, 0.1f)});
+                tris.push_back(glm::uvec3(base, base + 1, base + 2));
+            }
+    geometry.addTriangles(p, tris, 0);
+    const KdTreeAccel tree(geometry);
+    const std::span<const uint32_t> data = tree.leafData();
+    std::vector<bool> seen(geometry.size(), false);
+    for (const KdTreeAccel::Node& n : tree.nodes()) {
+        if (!n.isLeaf()) continue;
+        const uint32_t count = n.primCount();
+        for (uint32_t k = 0; k < count; ++k) {
+            const uint32_t word = data[n.leafOffset + kd_leaf::primitives(count) + k];
+            const uint32_t prim = word & ~kd_leaf::kOtherKind;
+            ASSERT_LT(prim, geometry.size());
+            const bool other = (word & kd_leaf::kOtherKind) != 0;
+            EXPECT_EQ(other, geometry.kind(prim) != PrimKind::Triangle) << "primitive " << prim;
+            seen[prim] = true;
+        }
+    }
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), true), std::ptrdiff_t(geometry.size()));
 }
 
 }  // namespace
