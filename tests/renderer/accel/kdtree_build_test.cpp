@@ -25,6 +25,27 @@ std::vector<unsigned char> treeBytes(const KdTreeAccel& tree) {
     return bytes;
 }
 
+// An n x n x n grid of small shapes, one a unit cell: a sphere where isSphere(x, y, z), else a
+// triangle.
+template <class IsSphere>
+void addGrid(Geometry& geometry, int n, IsSphere isSphere) {
+    std::vector<Vec3> p;
+    std::vector<glm::uvec3> tris;
+    for (int x = 0; x < n; ++x)
+        for (int y = 0; y < n; ++y)
+            for (int z = 0; z < n; ++z) {
+                const Vec3 c{float(x), float(y), float(z)};
+                if (isSphere(x, y, z)) {
+                    geometry.addSphere(Sphere{c, 0.1f}, 0);
+                    continue;
+                }
+                const auto base = uint32_t(p.size());
+                p.insert(p.end(), {c, c + Vec3(0.2f, 0.0f, 0.0f), c + Vec3(0.0f, 0.2f, 0.1f)});
+                tris.push_back(glm::uvec3(base, base + 1, base + 2));
+            }
+    if (!tris.empty()) geometry.addTriangles(p, tris, 0);
+}
+
 TEST(KdTreeBuild, SameTreeOnEveryThreadCount) {
     // The bunny: 69,451 triangles, so some thirty subtrees are built as separate tasks.
     const TriangleMesh mesh =
@@ -61,18 +82,8 @@ TEST(KdTreeBuild, LeavesHoldTrianglesByTheBlockAndSpheresOneByOne) {
         return double(s.references) / double(s.leaves - s.emptyLeaves);
     };
     Geometry spheres, triangles;
-    std::vector<Vec3> p;
-    std::vector<glm::uvec3> tris;
-    for (int x = 0; x < 16; ++x)
-        for (int y = 0; y < 16; ++y)
-            for (int z = 0; z < 16; ++z) {
-                const Vec3 c{float(x), float(y), float(z)};
-                spheres.addSphere(Sphere{c, 0.1f}, 0);
-                const auto base = uint32_t(p.size());
-                p.insert(p.end(), {c, c + Vec3(0.2f, 0.0f, 0.0f), c + Vec3(0.0f, 0.2f, 0.1f)});
-                tris.push_back(glm::uvec3(base, base + 1, base + 2));
-            }
-    triangles.addTriangles(p, tris, 0);
+    addGrid(spheres, 16, [](int, int, int) { return true; });
+    addGrid(triangles, 16, [](int, int, int) { return false; });
     const double sphereLeaf = meanLeaf(KdTreeAccel(spheres));
     const double triangleLeaf = meanLeaf(KdTreeAccel(triangles));
     EXPECT_LT(sphereLeaf, 8.0);
@@ -84,21 +95,7 @@ TEST(KdTreeBuild, LeavesHoldTrianglesByTheBlockAndSpheresOneByOne) {
 // is tested as a triangle of zero vertices, or a triangle through the geometry's records.
 TEST(KdTreeBuild, MarksPrimitivesOtherThanTriangles) {
     Geometry geometry;
-    std::vector<Vec3> p;
-    std::vector<glm::uvec3> tris;
-    for (int x = 0; x < 8; ++x)
-        for (int y = 0; y < 8; ++y)
-            for (int z = 0; z < 8; ++z) {
-                const Vec3 c{float(x), float(y), float(z)};
-                if ((x + y + z) % 3 == 0) {
-                    geometry.addSphere(Sphere{c, 0.1f}, 0);
-                    continue;
-                }
-                const auto base = uint32_t(p.size());
-                p.insert(p.end(), {c, c + Vec3(0.2f, 0.0f, 0.0f), c + Vec3(0.0f, 0.2f, 0.1f)});
-                tris.push_back(glm::uvec3(base, base + 1, base + 2));
-            }
-    geometry.addTriangles(p, tris, 0);
+    addGrid(geometry, 8, [](int x, int y, int z) { return (x + y + z) % 3 == 0; });
     const KdTreeAccel tree(geometry);
     const std::span<const uint32_t> data = tree.leafData();
     std::vector<bool> seen(geometry.size(), false);
