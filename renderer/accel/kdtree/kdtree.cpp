@@ -16,13 +16,14 @@ constexpr float kSlack = 2.0f * gamma(3);
 // from the direction's signs, and the updates are min and max, without branches. A NaN (a zero
 // direction component with the origin on a slab) fails both comparisons and leaves the range
 // alone.
-inline bool clipToBox(const Bounds3& box, const Vec3& org, const Vec3& invDir,
-                      const bool negative[3], float& t0, float& t1) {
+inline bool clipToBox(const Bounds3& box, const Vec3& org, const Vec3& invDir, uint32_t negative,
+                      float& t0, float& t1) {
     for (int a = 0; a < 3; ++a) {
         const float tLo = (component(box.lo, a) - component(org, a)) * component(invDir, a);
         const float tHi = (component(box.hi, a) - component(org, a)) * component(invDir, a);
-        const float tNear = negative[a] ? tHi : tLo;
-        const float tFar = (negative[a] ? tLo : tHi) * (1.0f + kSlack);
+        const bool flip = (negative >> a) & 1u;
+        const float tNear = flip ? tHi : tLo;
+        const float tFar = (flip ? tLo : tHi) * (1.0f + kSlack);
         t0 = tNear > t0 ? tNear : t0;
         t1 = tFar < t1 ? tFar : t1;
     }
@@ -38,7 +39,11 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
     // `best` could otherwise alias: the loop keeps them in registers instead of reloading them.
     const Vec3 org = ray.o;
     const Vec3 invDir = 1.0f / ray.d;
-    const bool negative[3] = {std::signbit(ray.d.x), std::signbit(ray.d.y), std::signbit(ray.d.z)};
+    // Bit a: the direction's component a is negative. In a register, not an array: the lookup
+    // is on the chain of dependent loads from one node to the next.
+    const uint32_t negative = uint32_t(std::signbit(ray.d.x)) |
+                              uint32_t(std::signbit(ray.d.y)) << 1 |
+                              uint32_t(std::signbit(ray.d.z)) << 2;
     float tMin = 0.0f, tEnd = tMax;
     if (!clipToBox(bounds_, org, invDir, negative, tMin, tEnd)) return false;
     const WatertightRay wr(ray);
@@ -68,8 +73,9 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
             const int axis = node.axis();
             const float tPlane = (node.split - component(org, axis)) * component(invDir, axis);
             const uint32_t below = index + 1, above = node.aboveChild();
-            const uint32_t nearChild = negative[axis] ? above : below;
-            const uint32_t farChild = negative[axis] ? below : above;
+            const bool nearAbove = (negative >> axis) & 1u;
+            const uint32_t nearChild = nearAbove ? above : below;
+            const uint32_t farChild = nearAbove ? below : above;
             if (tPlane > tEnd * (1.0f + kSlack)) {
                 index = nearChild;
             } else if (tPlane < tMin * (1.0f - kSlack)) {
