@@ -12,10 +12,10 @@ namespace {
 // must never skip a node the ray enters (pbrt-v3 3.9.2 uses 1 + 2 gamma(3) for box slabs).
 constexpr float kSlack = 2.0f * gamma(3);
 
-// Clips [t0, t1] to the box; false when the ray misses it. The slabs' near and far sides come
-// from the direction's signs, and the updates are min and max, without branches. A NaN (a zero
-// direction component with the origin on a slab) fails both comparisons and leaves the range
-// alone.
+// Clips [t0, t1] to the box; false when the ray misses it. Each slab's near and far sides come
+// from the direction's sign (no comparison of the two), and the range shrinks by min and max. A
+// NaN (a zero direction component with the origin on a slab) fails both comparisons and leaves
+// the range alone.
 inline bool clipToBox(const Bounds3& box, const Vec3& org, const Vec3& invDir, uint32_t negative,
                       float& t0, float& t1) {
     for (int a = 0; a < 3; ++a) {

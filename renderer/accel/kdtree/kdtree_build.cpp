@@ -219,11 +219,9 @@ private:
         uint32_t* leaf = data.data() + base;
         for (uint32_t i = 0; i < n; ++i) {
             const uint32_t prim = refs[i].prim;
-            if (geometry_.kind(prim) != PrimKind::Triangle) {
-                leaf[kd_leaf::primitives(n) + i] = prim | kd_leaf::kOtherKind;
-                continue;
-            }
-            leaf[kd_leaf::primitives(n) + i] = prim;
+            const bool triangle = geometry_.kind(prim) == PrimKind::Triangle;
+            leaf[kd_leaf::primitives(n) + i] = triangle ? prim : prim | kd_leaf::kOtherKind;
+            if (!triangle) continue;
             Vec3 p[3];
             geometry_.triangleVertices(geometry_.localIndex(prim), p[0], p[1], p[2]);
             for (int v = 0; v < 3; ++v)
