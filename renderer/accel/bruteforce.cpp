@@ -13,8 +13,9 @@ std::optional<Hit> BruteForceAccel::intersect(const Ray& ray, float tMax) const 
             bestPrim = prim;
         }
     }
-    if (!best) return std::nullopt;
-    return geometry_.finish(bestPrim, ray, *best);
+    std::optional<Hit> hit;  // one return of one object, written in place (Geometry::finish)
+    if (best) geometry_.finish(bestPrim, ray, *best, hit.emplace());
+    return hit;
 }
 
 bool BruteForceAccel::occluded(const Ray& ray, float tMax) const {

@@ -118,8 +118,10 @@ std::optional<PrimHit> Geometry::intersect(uint32_t prim, const WatertightRay& w
     return std::nullopt;
 }
 
-Hit Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
-    Hit hit{h.t, prim, h.uv, Vec3(0.0f)};
+void Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h, Hit& hit) const {
+    hit.t = h.t;
+    hit.prim = prim;
+    hit.uv = h.uv;
     const PrimRecord r = prims_[prim];
     const uint32_t i = r.local();
     switch (r.kind()) {
@@ -139,7 +141,6 @@ Hit Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
             break;
         }
     }
-    return hit;
 }
 
 SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {

@@ -86,8 +86,16 @@ public:
         p1 = positions_[t.y];
         p2 = positions_[t.z];
     }
-    /// Completes a primitive hit with the primitive index and the front-side unit normal.
-    Hit finish(uint32_t prim, const Ray& ray, const PrimHit& h) const;
+    /// Completes a primitive hit with the primitive index and the front-side unit normal, into
+    /// `hit`: an accelerator passes the optional<Hit> it returns, so that the Hit is written in
+    /// place. Returned by value and then copied, it was written field by field and read back in
+    /// 16-byte loads, which waited for the stores (failed store-to-load forwards, perf annotate).
+    void finish(uint32_t prim, const Ray& ray, const PrimHit& h, Hit& hit) const;
+    Hit finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
+        Hit hit;
+        finish(prim, ray, h, hit);
+        return hit;
+    }
     /// The surface at a hit: point from the surface parameters, its error bound, normal, material.
     SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
 

@@ -131,9 +131,10 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
 
 std::optional<Hit> KdTreeAccel::intersect(const Ray& ray, float tMax) const {
     uint32_t prim = 0;
-    PrimHit hit{};
-    if (!traverse<false>(ray, tMax, prim, hit)) return std::nullopt;
-    return geometry_.finish(prim, ray, hit);
+    PrimHit best{};
+    std::optional<Hit> hit;  // one return of one object, written in place (Geometry::finish)
+    if (traverse<false>(ray, tMax, prim, best)) geometry_.finish(prim, ray, best, hit.emplace());
+    return hit;
 }
 
 bool KdTreeAccel::occluded(const Ray& ray, float tMax) const {
