@@ -3,29 +3,38 @@
 # one of this checkout's benchmarks against two revisions of the renderer, in git worktrees, and
 # the runs of the two binaries in alternation.
 #
-# build_revision REV TARGET SOURCE...: the worktree $root/<commit> (created once, reused by later
-# runs; remove them with `git worktree remove`), this checkout's SOURCE files copied into its bench/
-# (they use only the accelerators' public interface, so they compile against older renderers
-# too), TARGET added to its bench/CMakeLists.txt if missing (from the first SOURCE) and built.
-# Prints the binary's path.
+# worktree_of REV: the worktree $root/<commit> of REV (created once, reused by later runs; remove
+# them with `git worktree remove`), configured for a Release build without tests. Prints its path.
 src=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)  # this checkout
 root=${AB_DIR:-/tmp/caustic-kdtree-ab}
-build_revision() {
-    local rev=$1 target=$2 sha worktree
-    shift 2
-    sha=$(git -C "$src" rev-parse --verify "$rev^{commit}")
+worktree_of() {
+    local sha worktree
+    sha=$(git -C "$src" rev-parse --verify "$1^{commit}")
     worktree=$root/$sha
     [[ -d $worktree ]] || git -C "$src" worktree add --detach -q "$worktree" "$sha"
-    local file
-    for file in "$@"; do cp "$src/bench/$file" "$worktree/bench/"; done
-    grep -q "add_executable($target " "$worktree/bench/CMakeLists.txt" ||
-        printf '%s\n' "add_executable($target $1)" \
-            "target_link_libraries($target PRIVATE caustic_renderer caustic_command_line)" \
-            >>"$worktree/bench/CMakeLists.txt"
     local launcher=()
     command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
     cmake -S "$worktree" -B "$worktree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
         -DCAUSTIC_BUILD_TESTS=OFF "${launcher[@]}" >/dev/null
+    echo "$worktree"
+}
+
+# build_revision REV TARGET SOURCE...: REV's worktree (worktree_of), this checkout's SOURCE files
+# copied into its bench/ (they use only the accelerators' public interface, so they compile
+# against older renderers too), TARGET added to its bench/CMakeLists.txt if missing (from the
+# first SOURCE) and built. Prints the binary's path.
+build_revision() {
+    local rev=$1 target=$2 worktree
+    shift 2
+    worktree=$(worktree_of "$rev")
+    local file
+    for file in "$@"; do cp "$src/bench/$file" "$worktree/bench/"; done
+    if ! grep -q "add_executable($target " "$worktree/bench/CMakeLists.txt"; then
+        printf '%s\n' "add_executable($target $1)" \
+            "target_link_libraries($target PRIVATE caustic_renderer caustic_command_line)" \
+            >>"$worktree/bench/CMakeLists.txt"
+        cmake "$worktree/build" >/dev/null
+    fi
     ninja -C "$worktree/build" "$target" >&2
     echo "$worktree/build/bench/$target"
 }
