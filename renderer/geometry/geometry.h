@@ -91,6 +91,7 @@ public:
     /// place. Returned by value and then copied, it was written field by field and read back in
     /// 16-byte loads, which waited for the stores (failed store-to-load forwards, perf annotate).
     void finish(uint32_t prim, const Ray& ray, const PrimHit& h, Hit& hit) const;
+    /// The same Hit, returned: for tests and callers off the hot path.
     Hit finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {
         Hit hit;
         finish(prim, ray, h, hit);
