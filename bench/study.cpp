@@ -341,12 +341,14 @@ int main(int argc, char** argv) {
                     };
                     caustic::render(*scene, s, callbacks);
                     const std::string sampler = s.toJson()["sampler"];
-                    // The estimator: path with photon-mapped caustics is biased (consistent).
+                    // The estimator: path with photon maps is biased (consistent).
+                    const bool caustics = s.path.caustics == caustic::PathSource::PhotonMap;
+                    const bool indirect = s.path.indirect == caustic::PathSource::PhotonMap;
                     const std::string integrator =
-                        s.integrator == "path" &&
-                                s.path.caustics == caustic::PathCaustics::PhotonMap
-                            ? "path+photon_map"
-                            : s.integrator;
+                        s.integrator != "path" ? s.integrator
+                        : indirect ? (caustics ? "path+photon_maps" : "path+indirect_map")
+                        : caustics ? "path+photon_map"
+                                   : s.integrator;
                     for (const Rung& r : rungs)
                         csv << sceneName << ',' << config.name << ',' << integrator << ','
                             << sampler << ',' << perPass << ',' << seed << ',' << r.spp << ','

@@ -94,8 +94,7 @@ int runRender(const RenderOptions& options) {
     if (!options.quiet) {
         const RenderStats& s = result.stats;
         char error[64] = "n/a (one pass)";
-        const bool biased = errorExcludesBias(settings.integrator,
-                                              settings.path.caustics == PathCaustics::PhotonMap);
+        const bool biased = errorExcludesBias(settings.integrator, settings.path.photonMapped());
         if (std::isfinite(s.relativeError))
             std::snprintf(error, sizeof error, "%.3g%%%s", 100.0 * s.relativeError,
                           biased ? " (noise only: excludes the bias)" : "");

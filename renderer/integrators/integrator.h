@@ -94,10 +94,10 @@ const std::vector<std::string>& integratorNames();
 
 /// Whether the error estimated from the pass variance misses part of the integrator's error: the
 /// photon mappers' bias, which every pass shares (photon) or which shrinks pass by pass (ppm, and
-/// path with photon-mapped caustics); docs/study/README.md measures it.
-inline bool errorExcludesBias(const std::string& integrator, bool photonMappedCaustics) {
+/// path with photon-mapped caustics or indirect light); docs/study/README.md measures it.
+inline bool errorExcludesBias(const std::string& integrator, bool pathPhotonMaps) {
     return integrator == "photon" || integrator == "ppm" ||
-           (integrator == "path" && photonMappedCaustics);
+           (integrator == "path" && pathPhotonMaps);
 }
 
 /// Creates the integrator `settings.integrator`, with its own settings, for a scene and

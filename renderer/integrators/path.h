@@ -5,19 +5,22 @@
 // throughput. With light sampling off it is the naive path tracer; with MIS off, light sampling
 // alone accounts for direct light at non-specular vertices (the seed's two variants). With
 // photon-mapped caustics the L S+ D part of the light comes from a progressive caustic photon map
-// at every non-specular vertex instead (integrators/caustic_photon_map.h).
+// at every non-specular vertex instead; with photon-mapped indirect light the path ends at its
+// second non-specular vertex, where a light sample and a progressive map of the photons that
+// scattered before they landed give the light leaving it (integrators/progressive_photon_map.h).
 #pragma once
 
 #include <memory>
 
-#include "integrators/caustic_photon_map.h"
 #include "integrators/integrator.h"
+#include "integrators/progressive_photon_map.h"
 
 namespace caustic {
 
-/// Where the path tracer takes caustics (light reaching a non-specular vertex through specular
-/// bounces only) from.
-enum class PathCaustics { Paths, PhotonMap };
+/// Where the path tracer takes a part of the light from: caustics (light reaching a non-specular
+/// vertex through specular bounces only), or the light leaving its second non-specular vertex
+/// other than emission and direct light.
+enum class PathSource { Paths, PhotonMap };
 
 class PathIntegrator final : public Integrator {
 public:
@@ -27,16 +30,29 @@ public:
         int rrDepth = 3;            ///< Bounces before Russian roulette may end a path.
         bool lightSampling = true;  ///< Next-event estimation at non-specular vertices.
         bool mis = true;            ///< Power-heuristic weights for light and BSDF samples.
-        PathCaustics caustics = PathCaustics::Paths;
+        PathSource caustics = PathSource::Paths;
+        PathSource indirect = PathSource::Paths;
+        uint64_t indirectPhotons = 30000;  ///< The indirect map's photon paths per pass.
+        double indirectRadius = 0;  ///< Its first pass's radius; 0: 1/62.5 of the scene's diagonal.
+
+        /// Whether a photon map gives a part of the light: the estimate is then consistent, not
+        /// unbiased, and the error estimate excludes the bias.
+        bool photonMapped() const {
+            return caustics == PathSource::PhotonMap || indirect == PathSource::PhotonMap;
+        }
     };
 
-    /// `photon` is read only with PathCaustics::PhotonMap (see CausticPhotonMap).
+    /// `photon` is read only with caustics from a photon map (photons, radius, alpha, kernel and
+    /// lookup); the indirect map reads its alpha, kernel and lookup.
     PathIntegrator(const Scene& scene, const Accelerator& accel, const TraceSettings& trace,
                    const Settings& settings, const PhotonIntegrator::Settings& photon);
 
     uint64_t beginPass(uint32_t pass) override;
     Color Li(const Ray& ray, SampleContext& ctx) const override;
-    size_t memoryBytes() const override { return caustics_ ? caustics_->memoryBytes() : 0; }
+    size_t memoryBytes() const override {
+        return (caustics_ ? caustics_->memoryBytes() : 0) +
+               (indirect_ ? indirect_->memoryBytes() : 0);
+    }
     void checkMemory(size_t budgetBytes) const override;
 
 private:
@@ -47,7 +63,8 @@ private:
 
     int maxDepth_;
     Settings settings_;
-    std::unique_ptr<CausticPhotonMap> caustics_;  // null when caustics are path traced
+    std::unique_ptr<ProgressivePhotonMap> caustics_;  // null when caustics are path traced
+    std::unique_ptr<ProgressivePhotonMap> indirect_;  // null when indirect light is path traced
 };
 
 }  // namespace caustic

@@ -19,6 +19,7 @@ public:
     }
     /// The weight is the albedo (cosine-weighted sampling, diffuse.cpp).
     float maxScatterWeight() const override { return maxComponent(albedo_); }
+    std::optional<Color> lambertian() const override { return albedo_ * kInvPi; }
     const Color& albedo() const { return albedo_; }
 
 private:

@@ -50,6 +50,11 @@ public:
     virtual int specularLobes(const Vec3& wo, const Vec3& n, TransportMode mode,
                               SpecularLobe out[2]) const = 0;
 
+    /// For a Lambertian BSDF, its constant value: f(wo, wi) is that when wi is on wo's side of
+    /// the surface and zero otherwise. A photon map's density estimate then evaluates f once, not
+    /// once a photon. nullopt for any other BSDF.
+    virtual std::optional<Color> lambertian() const { return std::nullopt; }
+
     /// An upper bound on every channel of the weight `sample` returns (f |cos theta_i| / pdf): the
     /// most of a path's throughput one scattering keeps. 1 unless a material knows better.
     virtual float maxScatterWeight() const { return 1.0f; }

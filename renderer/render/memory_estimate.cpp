@@ -30,7 +30,8 @@ size_t mib(size_t bytes) {
 
 // The settings the photon budget depends on.
 struct PhotonBudget {
-    uint64_t photons = 0, causticPhotons = 0;  // global and caustic-only paths a pass
+    uint64_t photons = 0;         // paths a pass of a map that keeps every photon they store
+    uint64_t causticPhotons = 0;  // paths a pass whose caustic photons a caustic map keeps
     int maxDepth = 0;
     const char* setting = "";  // what a refusal names
 };
@@ -38,13 +39,18 @@ struct PhotonBudget {
 // Zero paths when the integrator keeps no photon map.
 PhotonBudget photonBudget(const RenderSettings& s) {
     if (s.integrator == "path") {
-        // Its caustic map: `photons` caustic-only paths, and no global map.
-        if (s.path.caustics == PathCaustics::Paths) return {};
-        return {0, s.photon.photons, s.maxDepth, "/settings/photons"};
+        // Its caustic map (`photons` caustic-only paths) and its indirect map (a global map of
+        // `indirect_photons` paths, less their direct photons: bounded by all of them).
+        const bool caustics = s.path.caustics == PathSource::PhotonMap;
+        const bool indirect = s.path.indirect == PathSource::PhotonMap;
+        return {indirect ? s.path.indirectPhotons : 0, caustics ? s.photon.photons : 0, s.maxDepth,
+                indirect ? "/settings/indirect_photons" : "/settings/photons"};
     }
     if (s.integrator != "photon" && s.integrator != "ppm") return {};
     const bool caustics = s.photon.causticPhotons > s.photon.photons;
-    return {s.photon.photons, s.photon.causticPhotons, s.maxDepth,
+    // Without caustic_photons, the caustic map copies those of the `photons` paths.
+    return {s.photon.photons,
+            s.photon.causticPhotons > 0 ? s.photon.causticPhotons : s.photon.photons, s.maxDepth,
             caustics ? "/settings/caustic_photons" : "/settings/photons"};
 }
 
@@ -109,8 +115,8 @@ size_t photonPeakBytes(const Scene& scene, const RenderSettings& settings, const
     // A path stores at most one caustic photon: the first non-specular hit after specular ones
     // only (photons/photon_tracer.cpp). Without specular materials there is none.
     const double caustic = hasSpecular(scene) && perPath > 0 ? 1.0 : 0.0;
-    double stored = double(budget.photons) * perPath;
-    stored += double(budget.causticPhotons > 0 ? budget.causticPhotons : budget.photons) * caustic;
+    const double stored =
+        double(budget.photons) * perPath + double(budget.causticPhotons) * caustic;
     return PhotonIntegrator::peakBytes(stored);
 }
 

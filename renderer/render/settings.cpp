@@ -25,8 +25,15 @@ Json settingsSchemaJson() {
         if (!s.choices.empty()) j["enum"] = s.choices;
         if (!s.unit.empty()) j["unit"] = s.unit;
         j["integrators"] = s.integrators;
-        // Read by path only beside caustics = photon_map (RenderSettings::reads).
-        if (s.causticMap) j["only_with"] = {{"path", {{"caustics", "photon_map"}}}};
+        // Read by path only beside one of its photon maps (RenderSettings::reads).
+        if (s.pathMaps != 0) {
+            Json alternatives = Json::array();
+            if (s.pathMaps & SettingSpec::kCausticMap)
+                alternatives.push_back({{"caustics", "photon_map"}});
+            if (s.pathMaps & SettingSpec::kIndirectMap)
+                alternatives.push_back({{"indirect", "photon_map"}});
+            j["only_with"] = {{"path", alternatives}};
+        }
         if (s.name == "preset") {
             // What each preset sets, for the API's users and the page's preset menu.
             Json sets = Json::object();
@@ -156,7 +163,9 @@ Json RenderSettings::toJson() const {
 
 bool RenderSettings::reads(const SettingSpec& spec) const {
     if (!spec.readBy(integrator)) return false;
-    return !(spec.causticMap && integrator == "path" && path.caustics == PathCaustics::Paths);
+    if (spec.pathMaps == 0 || integrator != "path") return true;
+    return ((spec.pathMaps & SettingSpec::kCausticMap) && path.caustics == PathSource::PhotonMap) ||
+           ((spec.pathMaps & SettingSpec::kIndirectMap) && path.indirect == PathSource::PhotonMap);
 }
 
 Json parseSettingValue(const std::string& text) {

@@ -75,8 +75,11 @@ struct SettingSpec {
     std::vector<std::string> choices{};  ///< Valid values for strings.
     std::string unit{};
     std::vector<std::string> integrators{};  ///< Integrators that read it; empty for all.
-    /// A photon mapper's setting that path reads only for its caustic map (caustics = photon_map).
-    bool causticMap = false;
+    /// A setting that path reads only for its photon maps: a set of kCausticMap (caustics =
+    /// photon_map) and kIndirectMap (indirect = photon_map), one of which must be on; 0 when path
+    /// reads it whenever `integrators` names it.
+    unsigned pathMaps = 0;
+    static constexpr unsigned kCausticMap = 1, kIndirectMap = 2;
     std::string description{};
 
     /// Whether `integrator` (a name) reads it.
@@ -87,8 +90,9 @@ struct SettingSpec {
 const std::vector<SettingSpec>& settingSpecs();
 /// The table as JSON: {name: {type, default, minimum, maximum, enum, unit, description,
 /// integrators, only_with}}, for the API and the web page. only_with, when present, maps an
-/// integrator to the settings it must have for it to read this one: {"path": {"caustics":
-/// "photon_map"}} on the photon settings that path's caustic map reads.
+/// integrator to the alternative settings it must have for it to read this one, each an object of
+/// values: {"path": [{"caustics": "photon_map"}, {"indirect": "photon_map"}]} on the photon
+/// settings that both of path's maps read.
 Json settingsSchemaJson();
 
 /// Overlays `overrides` on `defaults` (both objects of settings), key by key, with the preset that

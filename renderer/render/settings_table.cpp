@@ -82,8 +82,10 @@ std::vector<SettingSpec> rows() {
     using Photon = PhotonIntegrator::Settings;
     const std::vector<std::string> tracers = {"whitted", "path", "photon", "ppm"};
     const std::vector<std::string> photonMappers = {"photon", "ppm"};
-    // What path reads too, with caustics = photon_map.
+    // What path reads too, with caustics = photon_map (and `both`: or indirect = photon_map).
     const std::vector<std::string> causticMappers = {"path", "photon", "ppm"};
+    const unsigned caustic = SettingSpec::kCausticMap;
+    const unsigned both = SettingSpec::kCausticMap | SettingSpec::kIndirectMap;
     return {
         {.name = "preset",
          .field = field(&R::preset),
@@ -150,7 +152,7 @@ std::vector<SettingSpec> rows() {
                         "light samples only."},
         {.name = "caustics",
          .field = field(&R::path, &Path::caustics),
-         .choices = {"paths", "photon_map"},  // PathCaustics' order
+         .choices = {"paths", "photon_map"},  // PathSource' order
          .integrators = {"path"},
          .description = "Where caustics (light reaching a diffuse surface through mirrors and "
                         "glass only) come from. paths: path tracing alone (unbiased; a small "
@@ -159,13 +161,46 @@ std::vector<SettingSpec> rows() {
                         "shrinking radius (`radius`, `alpha`, `kernel`): consistent as ppm is, "
                         "with a bias that falls pass by pass and that the error estimate "
                         "excludes; point lights' caustics appear too."},
+        {.name = "indirect",
+         .field = field(&R::path, &Path::indirect),
+         .choices = {"paths", "photon_map"},  // PathSource's order
+         .integrators = {"path"},
+         .description = "Where the light leaving a path's second diffuse vertex comes from, other "
+                        "than its emission and direct light. paths: path tracing (unbiased). "
+                        "photon_map: the path ends there, with a light sample and a map of "
+                        "`indirect_photons` photon paths a pass (the photons that scattered before "
+                        "they landed), read with ppm's shrinking radius (`indirect_radius`, "
+                        "`alpha`, `kernel`); the first diffuse vertex's BSDF sample is a final "
+                        "gather, which hides the estimate's blur. Fewer rays a sample and less "
+                        "noise from long paths; consistent as ppm is, with a bias that falls pass "
+                        "by pass and that the error estimate excludes."},
+        {.name = "indirect_photons",
+         .field = field(&R::path, &Path::indirectPhotons),
+         .min = 1,
+         .max = 1e9,
+         .unit = "photon paths/pass",
+         .integrators = {"path"},
+         .pathMaps = SettingSpec::kIndirectMap,
+         .description = "Photon paths traced from the lights in each pass for path's indirect "
+                        "map (indirect = photon_map); it keeps the photons that scattered before "
+                        "they landed (56 bytes each)."},
+        {.name = "indirect_radius",
+         .field = field(&R::path, &Path::indirectRadius),
+         .min = 0,
+         .max = 1e30,
+         .unit = "scene units",
+         .integrators = {"path"},
+         .pathMaps = SettingSpec::kIndirectMap,
+         .description =
+             "The indirect map's radius in the first pass (it shrinks as ppm's, by "
+             "`alpha`); 0 for 1/62.5 of the scene's diagonal (8 times the caustic map's)."},
         {.name = "photons",
          .field = field(&R::photon, &Photon::photons),
          .min = 1,
          .max = 1e9,
          .unit = "photon paths/pass",
          .integrators = causticMappers,
-         .causticMap = true,
+         .pathMaps = caustic,
          .description = "Photon paths traced from the lights in each pass (each stored photon "
                         "takes 56 bytes); path (caustics = photon_map): the caustic map's paths, "
                         "each ending at its first diffuse hit."},
@@ -182,7 +217,7 @@ std::vector<SettingSpec> rows() {
          .field = field(&R::photon, &Photon::lookup),
          .choices = {"kdtree", "brute_force"},  // PhotonLookup's order
          .integrators = causticMappers,
-         .causticMap = true,
+         .pathMaps = both,
          .description = "Photon search structure: the kd-tree, or every photon for every look-up "
                         "(a baseline for benchmarks; the image is the same)."},
         {.name = "k",
@@ -198,7 +233,7 @@ std::vector<SettingSpec> rows() {
          .max = 1e30,
          .unit = "scene units",
          .integrators = causticMappers,
-         .causticMap = true,
+         .pathMaps = caustic,
          .description = "photon: fixed density-estimation radius, 0 for the k nearest photons "
                         "instead; ppm and path's photon_map caustics: the first pass's radius, 0 "
                         "for 1/500 of the scene's diagonal."},
@@ -206,7 +241,7 @@ std::vector<SettingSpec> rows() {
          .field = field(&R::photon, &Photon::kernel),
          .choices = {"box", "cone", "simpson"},  // PhotonKernel's order
          .integrators = causticMappers,
-         .causticMap = true,
+         .pathMaps = both,
          .description = "Density-estimation kernel: box (uniform), cone (1 - d/r) or simpson "
                         "((1 - d^2/r^2)^2), each normalized over its disk."},
         {.name = "final_gather",
@@ -222,8 +257,8 @@ std::vector<SettingSpec> rows() {
          .min = 0.01,
          .max = 1,
          .integrators = {"path", "ppm"},
-         .causticMap = true,
-         .description = "Progressive photon mapping (ppm, and path's photon_map caustics): pass "
+         .pathMaps = both,
+         .description = "Progressive photon mapping (ppm, and path's photon maps): pass "
                         "i's squared radius is the previous one "
                         "times (i - 1 + alpha) / i (Knaus & Zwicker 2011); smaller alpha shrinks "
                         "it faster."},

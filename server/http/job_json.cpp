@@ -43,7 +43,8 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
         if (eta >= 0) etaReason = toString(live->etaReason);
     }
     const bool biased = errorExcludesBias(job.settings.value("integrator", ""),
-                                          job.settings.value("caustics", "") == "photon_map");
+                                          job.settings.value("caustics", "") == "photon_map" ||
+                                              job.settings.value("indirect", "") == "photon_map");
     Json links{
         {"self", self}, {"events", self + "/events"}, {"preview_png", self + "/preview.png"}};
     if (job.state == JobState::Succeeded) {

@@ -56,6 +56,7 @@ inline double rms(const std::vector<float>& a) {
 inline std::vector<std::string> integratorVariants() {
     std::vector<std::string> names = integratorNames();
     names.push_back("path_photon_caustics");
+    names.push_back("path_photon_maps");
     return names;
 }
 
@@ -63,6 +64,8 @@ inline std::vector<std::string> integratorVariants() {
 inline nlohmann::json integratorVariant(const std::string& variant) {
     if (variant == "path_photon_caustics")
         return {{"integrator", "path"}, {"caustics", "photon_map"}};
+    if (variant == "path_photon_maps")
+        return {{"integrator", "path"}, {"caustics", "photon_map"}, {"indirect", "photon_map"}};
     return {{"integrator", variant}};
 }
 

@@ -95,8 +95,17 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
   for (const name of ['photons', 'radius', 'alpha', 'kernel', 'photon_lookup'])
     assert.equal(await shown(`#s-${name}`), true, `${name} with photon_map caustics`);
   assert.equal(await shown('#s-caustic_photons'), false, 'caustic_photons is not path\'s');
+  assert.equal(await shown('#s-indirect_photons'), false, 'the indirect map\'s only with it');
   await page.selectOption('#s-caustics', 'paths');
   assert.equal(await shown('#s-photons'), false, 'hidden again with paths');
+  // The indirect map shows its own settings and those both maps read, not the caustic map's.
+  await page.selectOption('#s-indirect', 'photon_map');
+  for (const name of ['indirect_photons', 'indirect_radius', 'alpha', 'kernel', 'photon_lookup'])
+    assert.equal(await shown(`#s-${name}`), true, `${name} with a photon_map for indirect light`);
+  for (const name of ['photons', 'radius'])
+    assert.equal(await shown(`#s-${name}`), false, `${name} is the caustic map's`);
+  await page.selectOption('#s-indirect', 'paths');
+  assert.equal(await shown('#s-alpha'), false, 'hidden again without photon maps');
   await close();
 });
 

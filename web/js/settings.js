@@ -1,7 +1,7 @@
 // The render settings form, generated from GET /api/settings: the preset first (choosing one fills
 // in what it sets, from the API's `presets`; the fields stay editable), the integrator, then only
 // the options it reads (a setting's `integrators`, empty = every integrator, and its `only_with`:
-// path shows its caustic map's settings only with caustics = photon_map), the stopping rule, the
+// path shows its photon maps' settings only with caustics or indirect = photon_map), the stopping rule, the
 // accelerator, and the rest. Number inputs carry the API's minimum, maximum and step, enums are
 // selects, booleans checkboxes, and every field starts at the API's default.
 import {h} from './format.js';
@@ -10,7 +10,7 @@ import {h} from './format.js';
 // integrators read it, in the integrator's options), so the form always shows all of them.
 const STOP = ['spp', 'time_limit', 'target_error', 'spp_per_pass'];
 const ORDER = ['max_depth', 'rr_depth', 'light_sampling', 'mis', 'caustics', 'photons', 'caustic_photons', 'k',
-  'radius', 'kernel', 'alpha', 'final_gather', 'photon_lookup'];
+  'radius', 'indirect', 'indirect_photons', 'indirect_radius', 'kernel', 'alpha', 'final_gather', 'photon_lookup'];
 
 const byOrder = list => (a, b) => {
   const ia = list.indexOf(a), ib = list.indexOf(b);
@@ -45,7 +45,7 @@ export class SettingsForm {
     this.fields.get('integrator').input.addEventListener('change', () => this.showIntegrator());
     // A setting that others are read only beside (only_with) shows or hides them too.
     const conditions = new Set(Object.values(schema).flatMap(s =>
-      Object.values(s.only_with || {}).flatMap(Object.keys)));
+      Object.values(s.only_with || {}).flat().flatMap(Object.keys)));
     for (const name of conditions)
       this.fields.get(name)?.input.addEventListener('change', () => this.showIntegrator());
     this.fields.get('preset')?.input.addEventListener('change', () => this.applyPreset());
@@ -108,10 +108,12 @@ export class SettingsForm {
   showIntegrator() {
     const integrator = this.integrator;
     for (const [, f] of this.fields) {
-      // only_with: what else the integrator needs to read it (path's photon_map caustics).
-      const needs = Object.entries((f.spec.only_with || {})[integrator] || {});
+      // only_with: the alternative settings of which the integrator needs one to read it (path's
+      // photon maps), each an object of values.
+      const alternatives = (f.spec.only_with || {})[integrator];
       const used = (f.spec.integrators.length === 0 || f.spec.integrators.includes(integrator)) &&
-        needs.every(([name, value]) => this.fields.get(name)?.input.value === value);
+        (!alternatives || alternatives.some(needs => Object.entries(needs).every(
+          ([name, value]) => this.fields.get(name)?.input.value === value)));
       f.wrap.hidden = !used;
       f.input.disabled = !used;
     }

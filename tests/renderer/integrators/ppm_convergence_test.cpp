@@ -121,5 +121,24 @@ TEST(PhotonCaustics, ApproachThePathReferenceWithLessErrorThanPathsAlone) {
     }
 }
 
+TEST(PhotonIndirect, ApproachesThePathReferenceWithLessErrorThanPathsAlone) {
+    // Indirect light from the map at the second diffuse vertex, alone and with the caustic map.
+    const std::vector<int> checkpoints{4, 16, 64};
+    std::vector<double> paths = errorsAt({{"seed", 2}}, 4, checkpoints);
+    for (const json& maps : {json{{"indirect", "photon_map"}},
+                             json{{"indirect", "photon_map"}, {"caustics", "photon_map"}}}) {
+        SCOPED_TRACE(maps.dump());
+        const std::string name = maps.size() == 1 ? "indirect_map" : "both_maps";
+        std::vector<double> mapped = errorsAt(
+            mergePatched(
+                maps,
+                {{"indirect_photons", 5000}, {"photons", 20000}, {"radius", 0.05}, {"seed", 2}}),
+            4, checkpoints);
+        expectConvergence(name, mapped, checkpoints, 0.05);
+        for (size_t i = 0; i < checkpoints.size(); ++i)
+            EXPECT_LT(mapped[i], paths[i]) << name << " after " << checkpoints[i] << " passes";
+    }
+}
+
 }  // namespace
 }  // namespace caustic

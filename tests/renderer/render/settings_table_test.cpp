@@ -22,11 +22,11 @@ const SettingSpec& spec(const std::string& name) {
 }
 
 // The names of the settings integrator `name` reads.
-// What `name` reads; for path, the photon settings only with photon-mapped caustics.
-std::set<std::string> readBy(const std::string& name, bool photonCaustics = false) {
+// What `name` reads; for path, the photon settings only with its photon maps.
+std::set<std::string> readBy(const std::string& name, bool photonMaps = false) {
     std::set<std::string> names;
     for (const SettingSpec& s : settingSpecs())
-        if (s.readBy(name) && !(name == "path" && s.causticMap && !photonCaustics))
+        if (s.readBy(name) && !(name == "path" && s.pathMaps != 0 && !photonMaps))
             names.insert(s.name);
     return names;
 }
@@ -156,6 +156,9 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
                      {"light_sampling", false},
                      {"mis", false},
                      {"caustics", "photon_map"},
+                     {"indirect", "photon_map"},
+                     {"indirect_photons", 4321},
+                     {"indirect_radius", 0.125},
                      {"photons", 12345},
                      {"caustic_photons", 678},
                      {"photon_lookup", "brute_force"},
@@ -181,7 +184,10 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
     EXPECT_EQ(s.path.rrDepth, 7);
     EXPECT_FALSE(s.path.lightSampling);
     EXPECT_FALSE(s.path.mis);
-    EXPECT_EQ(s.path.caustics, PathCaustics::PhotonMap);
+    EXPECT_EQ(s.path.caustics, PathSource::PhotonMap);
+    EXPECT_EQ(s.path.indirect, PathSource::PhotonMap);
+    EXPECT_EQ(s.path.indirectPhotons, 4321u);
+    EXPECT_EQ(s.path.indirectRadius, 0.125);
     EXPECT_EQ(s.photon.photons, 12345u);
     EXPECT_EQ(s.photon.causticPhotons, 678u);
     EXPECT_EQ(s.photon.lookup, PhotonLookup::BruteForce);
@@ -225,15 +231,20 @@ TEST(SettingsJson, EachIntegratorListsTheGeneralSettingsAndWhatItReads) {
         EXPECT_EQ(keys(s.toJson()), readBy(name));
         listed.merge(keys(s.toJson()));
     }
+    // Path's indirect map's own settings, listed only beside it.
+    RenderSettings mapped;
+    mapped.path.indirect = PathSource::PhotonMap;
+    listed.merge(keys(mapped.toJson()));
     EXPECT_EQ(listed.size(), settingSpecs().size()) << "a setting no integrator lists";
 }
 
 TEST(SettingsJson, APathJobListsNoPhotonSetting) {
     Json asked = nonDefaultJson("path");
     asked["caustics"] = "paths";
+    asked["indirect"] = "paths";
     Json j = parseSettings(asked).toJson();
     for (const char* name : {"photons", "caustic_photons", "photon_lookup", "k", "radius", "kernel",
-                             "final_gather", "alpha"})
+                             "final_gather", "alpha", "indirect_photons", "indirect_radius"})
         EXPECT_FALSE(j.contains(name)) << name;
     for (const char* name : {"integrator", "spp", "max_depth", "rr_depth", "light_sampling", "mis",
                              "accelerator", "seed", "threads", "exposure"})
@@ -243,10 +254,20 @@ TEST(SettingsJson, APathJobListsNoPhotonSetting) {
     Json m = mapped.toJson();
     for (const char* name : {"photons", "photon_lookup", "radius", "kernel", "alpha"})
         EXPECT_TRUE(m.contains(name)) << name;
-    for (const char* name : {"caustic_photons", "k", "final_gather"})
+    for (const char* name :
+         {"caustic_photons", "k", "final_gather", "indirect_photons", "indirect_radius"})
         EXPECT_FALSE(m.contains(name)) << name;
     EXPECT_EQ(m["photons"], 1000);
     EXPECT_EQ(parseSettings(m).toJson(), m);
+    // Or its indirect light: then that map's settings, and those both maps read.
+    Json i = parseSettings(Json{{"indirect", "photon_map"}, {"indirect_photons", 2000}}).toJson();
+    for (const char* name :
+         {"indirect_photons", "indirect_radius", "photon_lookup", "kernel", "alpha"})
+        EXPECT_TRUE(i.contains(name)) << name;
+    for (const char* name : {"photons", "radius", "caustic_photons", "k", "final_gather"})
+        EXPECT_FALSE(i.contains(name)) << name;
+    EXPECT_EQ(i["indirect_photons"], 2000);
+    EXPECT_EQ(parseSettings(i).toJson(), i);
     // Nor does a ray caster list the path length it never follows.
     RenderSettings raycast;
     raycast.integrator = "raycast";
@@ -258,7 +279,7 @@ TEST(SettingsJson, EveryIntegratorRoundTrips) {
         SCOPED_TRACE(name);
         const Json asked = nonDefaultJson(name);
         Json j = parseSettings(asked).toJson();
-        ASSERT_EQ(keys(j), readBy(name, /*photonCaustics=*/true));  // caustics: photon_map
+        ASSERT_EQ(keys(j), readBy(name, /*photonMaps=*/true));  // caustics, indirect: photon_map
         for (auto it = j.begin(); it != j.end(); ++it) {
             EXPECT_EQ(it.value(), asked[it.key()]) << it.key();
             if (it.key() != "integrator") {
@@ -275,15 +296,21 @@ TEST(SettingsJson, EveryKeyAloneKeepsTheOthersAtTheirDefaults) {
     for (const SettingSpec& s : settingSpecs()) {
         SCOPED_TRACE(s.name);
         // The first integrator that reads it alone (path reads a photon setting only beside
-        // caustics = photon_map).
+        // caustics = photon_map); path alone reads its indirect map's, beside indirect =
+        // photon_map.
         const std::string integrator = s.name == "integrator"  ? otherValue(s).get<std::string>()
                                        : s.integrators.empty() ? "path"
-                                       : s.causticMap          ? s.integrators.back()
+                                       : s.pathMaps != 0       ? s.integrators.back()
                                                                : s.integrators.front();
+        const bool indirectMap = integrator == "path" && s.pathMaps != 0;
         Json one{{"integrator", integrator}, {s.name, otherValue(s)}};
         // The defaults with this one field changed (which may list more settings: caustics).
         RenderSettings changed;
         changed.integrator = integrator;
+        if (indirectMap) {
+            one["indirect"] = "photon_map";
+            changed.path.indirect = PathSource::PhotonMap;
+        }
         s.field.set(changed, otherValue(s), s.choices);
         const Json j = parseSettings(one).toJson();
         EXPECT_EQ(j, changed.toJson());
