@@ -159,6 +159,14 @@ TEST(MemoryEstimate, RefusalNamesTheSettingAtFault) {
                        {"photons", 100000000},
                        {"memory_limit", 4096}}),
               "/settings/photons");
+    // Or its indirect light: that map's setting is at fault (it keeps several photons a path).
+    EXPECT_EQ(refusal({{"integrator", "path"},
+                       {"indirect", "photon_map"},
+                       {"indirect_photons", 100000000},
+                       {"memory_limit", 4096}}),
+              "/settings/indirect_photons");
+    EXPECT_EQ(refusal({{"integrator", "path"}, {"indirect", "photon_map"}, {"memory_limit", 512}}),
+              "admitted");
     json big = exampleScene("bunny", 4096, 4096);
     try {
         checkMemoryEstimate(*countedScene(big), settingsFrom({{"memory_limit", 100}}));
