@@ -339,10 +339,14 @@ def test_access_log_goes_to_stderr_by_default(start_server):
     server = start_server("--threads", "2")
     r = server.get(f"/api/jobs/{UNKNOWN_ID}")
     assert r.status_code == 404
+    # Two lines: the start-up probe's /healthz and this request, in either order (each is written
+    # once its response has gone out, by the thread that served it).
     lines = logged(server.log, 2)
+    mine = [l for l in lines if l["path"] == f"/api/jobs/{UNKNOWN_ID}"]
+    assert len(mine) == 1, lines
     assert {"method": "GET", "path": f"/api/jobs/{UNKNOWN_ID}", "status": "404",
-            "bytes": str(len(r.content))} == {k: lines[-1][k] for k in ("method", "path", "status",
-                                                                       "bytes")}, lines
+            "bytes": str(len(r.content))} == {k: mine[0][k] for k in ("method", "path", "status",
+                                                                     "bytes")}, lines
     server.stop()
 
 

@@ -57,11 +57,12 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
     assert.deepEqual(fields.map(f => f.name).sort(), Object.keys(schema).sort(), 'one field per setting');
     for (const f of fields) {
       const spec = schema[f.name];
-      // With every setting at its default: path's caustics are path traced, so its photon
-      // settings (only_with caustics = photon_map) stay hidden.
-      const needs = Object.entries((spec.only_with || {})[integrator] || {});
+      // With every setting at its default: path's caustics and indirect light are path traced, so
+      // its photon settings (only_with one of caustics or indirect = photon_map) stay hidden.
+      const alternatives = (spec.only_with || {})[integrator];
       const used = (spec.integrators.length === 0 || spec.integrators.includes(integrator)) &&
-        needs.every(([name, value]) => schema[name].default === value);
+        (!alternatives || alternatives.some(needs => Object.entries(needs).every(
+          ([name, value]) => schema[name].default === value)));
       assert.equal(f.shown, used, `${integrator}: ${f.name} shown`);
       assert.equal(f.disabled, !used, `${integrator}: ${f.name} disabled when hidden`);
       assert.ok(f.label, `${f.name} has a label`);
