@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <bit>
 
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
 #include "core/bounds.h"
 #include "core/check.h"
 
@@ -98,38 +102,55 @@ void PhotonKdTree::search(const Vec3& p, float& bound2, Visit&& visit) const {
     int top = 0;
     if (size_ > 0) stack[top++] = {0, uint32_t(size_), 0, 0.0f, Vec3(0.0f)};
     while (top > 0) {
-        Range r = stack[--top];
-        if (r.min2 > bound2) continue;
+        const Range& popped = stack[--top];
+        if (popped.min2 > bound2) continue;
+        // The range in locals, not a Range: a Range built field by field and then copied whole
+        // (one 16-byte load of four 4-byte stores) waits until the stores reach the cache.
+        uint32_t lo = popped.lo, hi = popped.hi, node = popped.node;
+        Vec3 offset = popped.offset;
         // Down to the leaf on p's side, leaving the far sides on the stack: they are searched
         // after it, nearest last pushed first, each tested against the bound it shrank to.
-        while (!isLeaf(r.lo, r.hi)) {
-            const uint32_t mid = r.lo + (r.hi - r.lo) / 2;
-            const Split split = splits_[r.node];
+        while (!isLeaf(lo, hi)) {
+            const uint32_t mid = lo + (hi - lo) / 2;
+            const Split split = splits_[node];
             const float d = p[int(split.axis)] - split.value;
-            Range far = r;
-            if (d < 0.0f) {
-                far.lo = mid;
-                far.node = 2 * r.node + 2;
-                r.hi = mid;
-                r.node = 2 * r.node + 1;
-            } else {
-                far.hi = mid;
-                far.node = 2 * r.node + 1;
-                r.lo = mid;
-                r.node = 2 * r.node + 2;
-            }
-            far.offset[int(split.axis)] = std::abs(d);
-            far.min2 = squaredLength(far.offset) * kCellShrink;
-            if (far.min2 <= bound2) stack[top++] = far;
+            // The far side's offset: this range's, with p's distance to the plane on the axis
+            // (selected, not indexed, so that it stays in registers).
+            const float ad = std::abs(d);
+            const Vec3 far(split.axis == 0 ? ad : offset.x, split.axis == 1 ? ad : offset.y,
+                           split.axis == 2 ? ad : offset.z);
+            const float farMin2 = squaredLength(far) * kCellShrink;
+            const bool left = d < 0.0f;
+            const uint32_t farLo = left ? mid : lo, farHi = left ? hi : mid;
+            const uint32_t farNode = 2 * node + (left ? 2 : 1);
+            node = 2 * node + (left ? 1 : 2);
+            (left ? hi : lo) = mid;
+            if (farMin2 <= bound2) stack[top++] = Range{farLo, farHi, farNode, farMin2, far};
         }
-        const uint32_t n = r.hi - r.lo;
-        const float* x = coords_.data() + 3 * size_t(r.lo);
+        const uint32_t n = hi - lo;
+        const float* x = coords_.data() + 3 * size_t(lo);
         const float* y = x + n;
         const float* z = y + n;
         float d2[kLeafSize];
         for (uint32_t i = 0; i < kLeafSize; ++i) d2[i] = squaredLength(Vec3(x[i], y[i], z[i]) - p);
-        for (uint32_t i = 0; i < n; ++i)
-            if (d2[i] <= bound2) visit(d2[i], ids_[r.lo + i]);
+        // The points within the bound as a mask, so that the loop below branches once a hit, not
+        // once a point (whether a point is a hit is a coin toss the branch predictor loses).
+        static_assert(kLeafSize == 16);
+        uint32_t hits = 0;
+#if defined(__AVX__)
+        const __m256 b = _mm256_set1_ps(bound2);
+        hits = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(d2), b, _CMP_LE_OQ))) |
+               uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(d2 + 8), b, _CMP_LE_OQ)))
+                   << 8;
+#else
+        for (uint32_t i = 0; i < kLeafSize; ++i) hits |= uint32_t(d2[i] <= bound2) << i;
+#endif
+        // In index order, as before: nearest() shrinks the bound as it goes, so each is tested
+        // again.
+        for (hits &= (1u << n) - 1; hits != 0; hits &= hits - 1) {
+            const auto i = uint32_t(std::countr_zero(hits));
+            if (d2[i] <= bound2) visit(d2[i], ids_[lo + i]);
+        }
     }
 }
 
