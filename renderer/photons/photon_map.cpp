@@ -89,27 +89,22 @@ Color PhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo, const M
         r2 = scratch.back().dist2;
     }
     if (!(r2 > 0.0f)) return Color(0.0f);
-    if (std::optional<Color> f = m.lambertian()) {
-        // f is the same for every photon on wo's side (Diffuse::f's test), and zero for the others.
-        const float side = glm::dot(wo, si.n);
-        Color sum(0.0f);
-        for (const Neighbor& n : scratch) {
-            const Photon& p = photons_[n.id];
-            if (!(mask & maskOf(p.path)) || p.bounces > estimate.maxBounces ||
-                side * glm::dot(p.wi, si.n) <= 0.0f)
-                continue;
-            sum += p.power * kernel(estimate.kernel, n.dist2, r2);
-        }
-        return *f * sum;
-    }
+    // A Lambertian f is the same for every photon on wo's side (Diffuse::f's test) and zero for
+    // the others: it is applied once, to the sum.
+    const std::optional<Color> lambertian = m.lambertian();
+    const float side = glm::dot(wo, si.n);
     Color L(0.0f);
     for (const Neighbor& n : scratch) {
         const Photon& p = photons_[n.id];
         if (!(mask & maskOf(p.path)) || p.bounces > estimate.maxBounces) continue;
+        const float w = kernel(estimate.kernel, n.dist2, r2);
         // f is zero for a photon from the other side of a thin surface: it lights only its side.
-        L += m.f(wo, p.wi, si.n) * p.power * kernel(estimate.kernel, n.dist2, r2);
+        if (!lambertian)
+            L += m.f(wo, p.wi, si.n) * p.power * w;
+        else if (side * glm::dot(p.wi, si.n) > 0.0f)
+            L += p.power * w;
     }
-    return L;
+    return lambertian ? *lambertian * L : L;
 }
 
 }  // namespace caustic
