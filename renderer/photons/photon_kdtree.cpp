@@ -108,6 +108,7 @@ void PhotonKdTree::search(const Vec3& p, float& bound2, Visit&& visit) const {
         // (one 16-byte load of four 4-byte stores) waits until the stores reach the cache.
         uint32_t lo = popped.lo, hi = popped.hi, node = popped.node;
         Vec3 offset = popped.offset;
+        // (`popped` is read only up to here: the pushes below reuse its slot.)
         // Down to the leaf on p's side, leaving the far sides on the stack: they are searched
         // after it, nearest last pushed first, each tested against the bound it shrank to.
         while (!isLeaf(lo, hi)) {
