@@ -40,6 +40,8 @@ public:
         s.kind_ = kind;
         if (kind == SamplerKind::Independent) {
             s.rng_ = Rng::forSample(seed, pass, pixel, sample);
+            s.key_ = hashCombine(hashCombine(hashCombine(mixBits(seed ^ kSplitSalt), pass), pixel),
+                                 sample);
         } else if (kind == SamplerKind::Sobol) {
             // Distinct from the independent sampler's keys, so the two never share numbers.
             s.key_ = hashCombine(hashCombine(mixBits(seed ^ kSobolSalt), pass), pixel);
@@ -69,7 +71,22 @@ public:
                     fractionToFloat(owenScrambledSobol(index, 1, uint32_t(h2 >> 32))));
     }
 
+    /// Point j of k in the pixel's own 2-D set of k points per sample, apart from the sample's
+    /// dimensions (the camera rays that look for emission seen directly, render/seen_emission.h).
+    /// sobol: the pass's samples' k points together are the first count * k points of a
+    /// scrambled Sobol' (0,2)-sequence, a net when that is a power of two; sobol_sequence: the
+    /// pixel's one sequence runs on through its passes, as its samples do; independent: PCG32.
+    Vec2 pixelPoint(uint32_t j, uint32_t k) const {
+        uint64_t h = mixBits(key_ ^ kSplitSalt);
+        if (kind_ == SamplerKind::Independent) return Rng(hashCombine(h, j)).uniform2();
+        // Unshuffled: the set's points pair with no other dimension.
+        uint32_t index = sample_ * k + j;
+        return Vec2(fractionToFloat(owenScrambledSobol(index, 0, uint32_t(h))),
+                    fractionToFloat(owenScrambledSobol(index, 1, uint32_t(h >> 32))));
+    }
+
 private:
+    static constexpr uint64_t kSplitSalt = 0x5e1f5ee9e7115ca7ull;
     static constexpr uint64_t kSobolSalt = 0x5f0b01c0ffee5eedull;
     static constexpr uint64_t kSequenceSalt = 0x5e9e7ce5b0b01c0full;
 

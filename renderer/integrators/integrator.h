@@ -33,6 +33,9 @@ struct TraceSettings {
 struct SampleContext {
     Sampler sampler;
     uint64_t rays = 0;
+    /// Whether Li adds the emission its camera ray sees first; false when the render loop
+    /// estimates that over more camera rays (render/seen_emission.h).
+    bool cameraEmission = true;
     /// The render's stop request: loops whose length the settings control poll it, and the
     /// sample's result is discarded once it asks to stop.
     InterruptPoller interrupt;

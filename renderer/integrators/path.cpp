@@ -86,7 +86,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         const Material& m = *scene_.materials[si.material];
         Vec3 wo = -ray.d;
 
-        if (m.isEmissive()) {
+        if (m.isEmissive() && (depth > 0 || ctx.cameraEmission)) {
             Color Le = m.Le(wo, si.n);
             if (!isBlack(Le) && !(specularBounce && mappedCaustics)) {
                 float w = specularBounce ? 1.0f : emissionWeight(from, bsdfPdf, si);

@@ -118,9 +118,11 @@ size_t PhotonIntegrator::memoryBytes() const {
 
 std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Color& beta,
                                                                     bool& escaped,
-                                                                    SampleContext& ctx) const {
+                                                                    SampleContext& ctx,
+                                                                    int* bounces) const {
     escaped = false;
     for (int depth = 0; depth <= trace_.maxDepth; ++depth) {
+        if (bounces) *bounces = depth;
         if (ctx.interrupted()) return std::nullopt;
         std::optional<Hit> hit = intersect(ray, ctx);
         if (!hit) {
@@ -164,13 +166,15 @@ Color PhotonIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
     Color beta(1.0f);
     bool escaped = false;
     Ray in = ray;
-    std::optional<SurfaceInteraction> x = firstDiffuseHit(in, beta, escaped, ctx);
+    int bounces = 0;
+    std::optional<SurfaceInteraction> x = firstDiffuseHit(in, beta, escaped, ctx, &bounces);
     if (!x) return escaped ? beta * scene_.background : Color(0.0f);
 
     const Material& m = *scene_.materials[x->material];
     Vec3 wo = -in.d;
     thread_local std::vector<Neighbor> scratch;
-    Color L = m.Le(wo, x->n) + sampleDirectLight(*x, wo, m, ctx);
+    Color L = sampleDirectLight(*x, wo, m, ctx);
+    if (bounces > 0 || ctx.cameraEmission) L += m.Le(wo, x->n);
     L += caustic_->reflected(*x, wo, m, passEstimate_, kAllPhotonPaths, scratch);
     if (settings_.finalGather > 0)
         L += gather(*x, wo, m, ctx, scratch);

@@ -78,9 +78,10 @@ private:
     }
     /// Follows specular lobes from `ray` (one sampled lobe per hit) to the first non-specular hit;
     /// nullopt when the path escapes (`escaped`) or ends. `beta` accumulates the specular weights;
-    /// `ray` becomes the ray that reached the hit.
+    /// `ray` becomes the ray that reached the hit, after `bounces` specular bounces.
     std::optional<SurfaceInteraction> firstDiffuseHit(Ray& ray, Color& beta, bool& escaped,
-                                                      SampleContext& ctx) const;
+                                                      SampleContext& ctx,
+                                                      int* bounces = nullptr) const;
     Color gather(const SurfaceInteraction& x, const Vec3& wo, const Material& m, SampleContext& ctx,
                  std::vector<Neighbor>& scratch) const;
 

@@ -8,7 +8,8 @@ Color RayCastIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
     SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
     const Material& m = *scene_.materials[si.material];
     Vec3 wo = -ray.d;
-    return m.Le(wo, si.n) + sampleDirectLight(si, wo, m, ctx);
+    Color L = sampleDirectLight(si, wo, m, ctx);
+    return ctx.cameraEmission ? L + m.Le(wo, si.n) : L;
 }
 
 }  // namespace caustic

@@ -30,7 +30,7 @@ Color WhittedIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         SurfaceInteraction si = scene_.geometry.interaction(b.ray, *hit);
         const Material& m = *scene_.materials[si.material];
         Vec3 wo = -b.ray.d;
-        L += b.weight * m.Le(wo, si.n);
+        if (b.depth > 0 || ctx.cameraEmission) L += b.weight * m.Le(wo, si.n);
 
         // Diffuse surfaces end the branch with direct light.
         if (!m.isSpecular()) {

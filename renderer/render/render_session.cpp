@@ -27,7 +27,19 @@ struct TileRenderer {
     int sppPerPass;
     uint32_t pass;
     const std::vector<uint16_t>* sampleMap;  ///< Samples per pixel; null for sppPerPass each.
+    const SeenEmission* seen;                ///< Null: each sample's own ray sees emission.
     std::vector<Color>& out;
+
+    // The emission seen directly through pixel (x, y), from the sample's own points.
+    Color seenEmission(const Sampler& sampler, int x, int y, uint64_t& rays) const {
+        const uint32_t k = uint32_t(settings.emissionSamples);
+        Color sum(0.0f);
+        for (uint32_t j = 0; j < k; ++j) {
+            Vec2 p = sampler.pixelPoint(j, k);
+            sum += seen->along(scene.camera.generateRay(float(x) + p.x, float(y) + p.y), rays);
+        }
+        return sum / float(k);
+    }
 
     // The pixel's samples in the passes before this one, which takes `samples`: the uniform
     // passes' (all of them, or the adaptive pilot's) and, after the pilot, its share of the map's.
@@ -44,6 +56,7 @@ struct TileRenderer {
         int y1 = std::min(ty + kTileSize, camera.height());
         SampleContext ctx;
         ctx.interrupt = InterruptPoller(&interrupt);
+        ctx.cameraEmission = seen == nullptr;
         for (int y = ty; y < y1; ++y) {
             for (int x = tx; x < x1; ++x) {
                 uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
@@ -51,6 +64,7 @@ struct TileRenderer {
                 int valid = 0;
                 const int samples = sampleMap ? (*sampleMap)[pixel] : sppPerPass;
                 const uint32_t before = samplesBefore(samples);
+                const bool seenHere = seen && seen->mayBeSeenIn(x, y);
                 for (int s = 0; s < samples; ++s) {
                     if (ctx.interrupted()) break;  // the pass is dropped
                     ctx.sampler = Sampler::forSample(settings.sampler, settings.seed, pass, pixel,
@@ -58,6 +72,7 @@ struct TileRenderer {
                     Vec2 jitter = ctx.sampler.uniform2();
                     Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
                     Color L = integrator.Li(ray, ctx);
+                    if (seenHere) L += seenEmission(ctx.sampler, x, y, ctx.rays);
                     // A non-finite sample is a bug or an overflow; keep it out of the image.
                     if (!isFinite(L)) {
                         ++dropped;
@@ -88,6 +103,7 @@ RenderSession::RenderSession(const Scene& scene, const RenderSettings& settings,
     acceleratorSeconds_ = secondsSince(t0);
     auto t1 = Clock::now();
     integrator_ = createIntegrator(scene_, *accel_, settings_);
+    if (settings_.emissionSamples > 0) seen_ = std::make_unique<SeenEmission>(scene_, *accel_);
     integrator_->setInterrupt(interrupt);
     checkMemory();
     integrator_->setInterrupt(nullptr);
@@ -129,6 +145,7 @@ bool RenderSession::renderPass(int pass, const Interrupt& interrupt, uint64_t& r
                           sppPerPass_,
                           uint32_t(pass),
                           mapped ? &sampleMap_ : nullptr,
+                          seen_ && seen_->any() ? seen_.get() : nullptr,
                           passImage_};
     std::atomic<int> tilesDone{0};
     std::atomic<bool> abandon{false};

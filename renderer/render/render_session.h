@@ -14,6 +14,7 @@
 #include "film/film.h"
 #include "integrators/integrator.h"
 #include "render/render_stats.h"
+#include "render/seen_emission.h"
 #include "render/settings.h"
 #include "render/stopping.h"
 #include "scene/scene.h"
@@ -102,6 +103,7 @@ private:
     int sppPerPass_, passesTotal_, threads_;
     std::unique_ptr<Accelerator> accel_;
     std::unique_ptr<Integrator> integrator_;
+    std::unique_ptr<SeenEmission> seen_;  // null with emission_samples 0
     std::vector<Color> passImage_;
     std::vector<uint16_t> sampleMap_;  ///< Samples per pixel after the pilot; empty before.
     double acceleratorSeconds_ = 0, integratorSeconds_ = 0;

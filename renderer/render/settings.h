@@ -32,6 +32,9 @@ struct RenderSettings : TraceSettings {
     double targetError = 0;  ///< Relative RMS error to stop at; 0 for none.
     SamplerKind sampler = SamplerKind::Independent;
     bool adaptive = false;  ///< Samples by each pixel's error after a pilot (render/sample_map.h).
+    /// Camera rays per sample for the emission seen directly (render/seen_emission.h); 0: the
+    /// sample's own ray.
+    int emissionSamples = 8;
     std::string accelerator = "embree";  // the fastest of the three today
     double memoryLimit = 0;              ///< MiB; 0 for half the machine's physical memory.
     double exposure = 0;                 ///< Stops (powers of two) applied to PNG output.

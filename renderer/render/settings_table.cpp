@@ -282,6 +282,16 @@ std::vector<SettingSpec> rows() {
                         "image and its error estimate stay unbiased; it needs spp_per_pass of 4 or "
                         "more to move samples, and a render split after the pilot renders the "
                         "pilot again."},
+        {.name = "emission_samples",
+         .field = field(&R::emissionSamples),
+         .min = 0,
+         .max = 64,
+         .unit = "rays/sample",
+         .description = "Camera rays per sample that look for emitters seen directly through the "
+                        "pixel: a lamp's edges, the noisiest pixels of an image with a lamp in "
+                        "view, are resolved by spp times this many points. A ray costs a "
+                        "traversal only where it meets an emitter's bounding box. 0: each "
+                        "sample's own ray (the background is always the sample's own)."},
         {.name = "accelerator",
          .field = field(&R::accelerator),
          .choices = acceleratorNames(),

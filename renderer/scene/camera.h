@@ -21,6 +21,17 @@ public:
         return Ray{position_, glm::normalize(forward_ + sx * right_ + sy * up_)};
     }
 
+    /// The raster point whose primary ray passes through world point p (generateRay's inverse);
+    /// false when p is not in front of the camera.
+    bool raster(const Vec3& p, float& x, float& y) const {
+        Vec3 v = p - position_;
+        float z = glm::dot(v, forward_);
+        if (!(z > 0.0f)) return false;
+        x = (glm::dot(v, right_) / (z * tanHalfX_) + 1.0f) * 0.5f * static_cast<float>(width_);
+        y = (1.0f - glm::dot(v, up_) / (z * tanHalfY_)) * 0.5f * static_cast<float>(height_);
+        return true;
+    }
+
     int width() const { return width_; }
     int height() const { return height_; }
     const Vec3& position() const { return position_; }

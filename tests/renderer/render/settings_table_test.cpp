@@ -169,6 +169,7 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
                      {"alpha", 0.5},
                      {"sampler", "sobol"},
                      {"adaptive", true},
+                     {"emission_samples", 5},
                      {"accelerator", "bruteforce"},
                      {"memory_limit", 512.5},
                      {"seed", 12345678901},
@@ -198,6 +199,7 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
     EXPECT_EQ(s.photon.alpha, 0.5);
     EXPECT_EQ(s.sampler, SamplerKind::Sobol);
     EXPECT_TRUE(s.adaptive);
+    EXPECT_EQ(s.emissionSamples, 5);
     EXPECT_EQ(s.preset, "preview");
     EXPECT_EQ(s.accelerator, "bruteforce");
     EXPECT_EQ(s.memoryLimit, 512.5);
