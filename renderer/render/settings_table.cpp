@@ -290,8 +290,10 @@ std::vector<SettingSpec> rows() {
          .description = "Camera rays per sample that look for emitters seen directly through the "
                         "pixel: a lamp's edges, the noisiest pixels of an image with a lamp in "
                         "view, are resolved by spp times this many points. A ray costs a "
-                        "traversal only where it meets an emitter's bounding box. 0: each "
-                        "sample's own ray (the background is always the sample's own)."},
+                        "traversal only where it meets an emitter's bounding box, so an emitter "
+                        "that fills much of the view costs up to this many rays a sample in its "
+                        "pixels: lower it there. 0: each sample's own ray (the background is "
+                        "always the sample's own)."},
         {.name = "accelerator",
          .field = field(&R::accelerator),
          .choices = acceleratorNames(),
