@@ -103,7 +103,8 @@ RenderSession::RenderSession(const Scene& scene, const RenderSettings& settings,
     acceleratorSeconds_ = secondsSince(t0);
     auto t1 = Clock::now();
     integrator_ = createIntegrator(scene_, *accel_, settings_);
-    if (settings_.emissionSamples > 0) seen_ = std::make_unique<SeenEmission>(scene_, *accel_);
+    if (settings_.emissionSamples > 0 && !scene_.emitterPrims.empty())
+        seen_ = std::make_unique<SeenEmission>(scene_, *accel_);
     integrator_->setInterrupt(interrupt);
     checkMemory();
     integrator_->setInterrupt(nullptr);
@@ -145,7 +146,7 @@ bool RenderSession::renderPass(int pass, const Interrupt& interrupt, uint64_t& r
                           sppPerPass_,
                           uint32_t(pass),
                           mapped ? &sampleMap_ : nullptr,
-                          seen_ && seen_->any() ? seen_.get() : nullptr,
+                          seen_.get(),
                           passImage_};
     std::atomic<int> tilesDone{0};
     std::atomic<bool> abandon{false};

@@ -103,7 +103,7 @@ private:
     int sppPerPass_, passesTotal_, threads_;
     std::unique_ptr<Accelerator> accel_;
     std::unique_ptr<Integrator> integrator_;
-    std::unique_ptr<SeenEmission> seen_;  // null with emission_samples 0
+    std::unique_ptr<SeenEmission> seen_;  // null with emission_samples 0 or nothing emitting
     std::vector<Color> passImage_;
     std::vector<uint16_t> sampleMap_;  ///< Samples per pixel after the pilot; empty before.
     double acceleratorSeconds_ = 0, integratorSeconds_ = 0;

@@ -36,19 +36,11 @@ SeenEmission::Rect SeenEmission::outline(const Bounds3& box, const Camera& camer
 }
 
 bool SeenEmission::mayHitEmitter(const Ray& ray) const {
-    const Vec3 inv = 1.0f / ray.d;
+    const Vec3 invDir = 1.0f / ray.d;
+    const uint32_t negative = directionSignBits(ray.d);
     for (const Bounds3& b : boxes_) {
-        // The slab test (Kay & Kajiya 1986). A zero direction component gives +-inf, or NaN when
-        // the origin lies on the slab's plane: comparisons with NaN fail and leave the interval
-        // as it was, which errs towards a traced ray.
-        float tNear = 0.0f, tFar = kInfinity;
-        for (int a = 0; a < 3; ++a) {
-            float t0 = (b.lo[a] - ray.o[a]) * inv[a], t1 = (b.hi[a] - ray.o[a]) * inv[a];
-            if (t0 > t1) std::swap(t0, t1);
-            if (t0 > tNear) tNear = t0;
-            if (t1 < tFar) tFar = t1;
-        }
-        if (tNear <= tFar) return true;
+        float t0 = 0.0f, t1 = kInfinity;
+        if (clipToBox(b, ray.o, invDir, negative, t0, t1)) return true;
     }
     return false;
 }

@@ -3,32 +3,12 @@
 #include "accel/kdtree/kdtree.h"
 
 #include <bit>
-#include <cmath>
 
 namespace caustic {
 namespace {
 
-// Relative slack on ray parameters compared across nodes: a rounding error in a plane crossing
-// must never skip a node the ray enters (pbrt-v3 3.9.2 uses 1 + 2 gamma(3) for box slabs).
-constexpr float kSlack = 2.0f * gamma(3);
-
-// Clips [t0, t1] to the box; false when the ray misses it. Each slab's near and far sides come
-// from the direction's sign (no comparison of the two), and the range shrinks by min and max. A
-// NaN (a zero direction component with the origin on a slab) fails both comparisons and leaves
-// the range alone.
-inline bool clipToBox(const Bounds3& box, const Vec3& org, const Vec3& invDir, uint32_t negative,
-                      float& t0, float& t1) {
-    for (int a = 0; a < 3; ++a) {
-        const float tLo = (component(box.lo, a) - component(org, a)) * component(invDir, a);
-        const float tHi = (component(box.hi, a) - component(org, a)) * component(invDir, a);
-        const bool flip = (negative >> a) & 1u;
-        const float tNear = flip ? tHi : tLo;
-        const float tFar = (flip ? tLo : tHi) * (1.0f + kSlack);
-        t0 = tNear > t0 ? tNear : t0;
-        t1 = tFar < t1 ? tFar : t1;
-    }
-    return t0 <= t1;
-}
+// Plane crossings are compared with the slack of box slabs (core/bounds.h).
+constexpr float kSlack = kRayBoxSlack;
 
 }  // namespace
 
@@ -41,9 +21,7 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
     const Vec3 invDir = 1.0f / ray.d;
     // Bit a: the direction's component a is negative. In a register, not an array: the lookup
     // is on the chain of dependent loads from one node to the next.
-    const uint32_t negative = uint32_t(std::signbit(ray.d.x)) |
-                              uint32_t(std::signbit(ray.d.y)) << 1 |
-                              uint32_t(std::signbit(ray.d.z)) << 2;
+    const uint32_t negative = directionSignBits(ray.d);
     float tMin = 0.0f, tEnd = tMax;
     if (!clipToBox(bounds_, org, invDir, negative, tMin, tEnd)) return false;
     const WatertightRay wr(ray);
