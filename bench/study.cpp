@@ -83,6 +83,27 @@ std::vector<Config> allConfigs() {
           {"sampler", "sobol_sequence"},
           {"caustics", "photon_map"},
           {"photons", 50000}}},
+        // Indirect light from a progressive photon map at the second diffuse vertex
+        // (indirect = photon_map): with independent numbers, so that the bias table sees it; with
+        // the final preset's sampler; and with both maps, as bench/mitsuba_compare.sh and
+        // bench/cycles_compare.sh run the bunny and cornell-spheres.
+        {"path-indirect-map",
+         {{"integrator", "path"},
+          {"spp_per_pass", 4},
+          {"indirect", "photon_map"},
+          {"indirect_photons", 10000}}},
+        {"path-sobol-sequence-16-indirect-map",
+         {{"integrator", "path"},
+          {"spp_per_pass", 16},
+          {"sampler", "sobol_sequence"},
+          {"indirect", "photon_map"}}},
+        {"path-sobol-sequence-16-photon-maps",
+         {{"integrator", "path"},
+          {"spp_per_pass", 16},
+          {"sampler", "sobol_sequence"},
+          {"caustics", "photon_map"},
+          {"photons", 50000},
+          {"indirect", "photon_map"}}},
         {"photon-k50", with({{"integrator", "photon"}, {"spp_per_pass", 4}, {"k", 50}})},
         {"photon-k200", with({{"integrator", "photon"}, {"spp_per_pass", 4}, {"k", 200}})},
         {"ppm", with({{"integrator", "ppm"}, {"spp_per_pass", 4}})},
