@@ -2,22 +2,22 @@
 
 namespace caustic {
 
-// From the study (docs/study/README.md, 96x96, every example scene, path tracing). Preview's
-// settings (adaptive sampling from an 8-pass pilot, 8 per pass) reached each scene's target RMSE
-// 1.26 to 5.19 times sooner than path with independent numbers: the fastest of all on the bunny
-// and within 1.10 times the fastest on cornell-box, meshes and indirect (the caustic photon map
-// wins on the glass scenes). But adaptive sampling starves dark pixels (uniform sampling's
-// relative MSE is 0.60 to 0.92 times its), so final, whose dark corners matter, samples uniformly
-// with 16 per pass (1.27 to 3.46 times path's speed); draft stops before the pilot ends. The error
-// target stops each as soon as it is met, spp being a ceiling.
+// From the study (docs/study/README.md, 96x96, every example scene, path tracing; 2026-12-05).
+// Preview's settings (adaptive sampling from an 8-pass pilot, 8 per pass) reached each scene's
+// target RMSE 1.43 to 3.27 times sooner than path with independent numbers: the fastest of all on
+// the bunny (photon maps, or sobol at 16 a pass, win on the others). But adaptive sampling starves
+// dark pixels (uniform sampling's relative MSE is 0.63 to 0.93 times its), so final, whose dark
+// corners matter, samples uniformly with 16 per pass (1.31 to 3.16 times path's speed); draft stops
+// before the pilot ends. The error target stops each as soon as it is met, spp being a ceiling.
+// None takes a photon map: their bias is outside the error the target reads.
 //
 // All three run one Sobol' sequence through a pixel's passes (sobol_sequence). Each pass is then
 // the same net as with sobol, so the passes' spread, and with it the reported error and the pass
 // at which the target stops a render, are about the same; but the passes fill each other's gaps,
 // so the image is truer than that spread says. Measured at 128x128, 2 seeds, against 4096-spp
-// references (bench/preset_stops.sh, 2026-12-03): on the bunny and cornell-box the true error
-// at the stop is 16 to 29% lower than with sobol, on cornell-spheres (glass) 4 to 5%, with the
-// stop within half a pass of sobol's; the reported error is then 1.04 to 1.39 times the true one,
+// references (bench/preset_stops.sh, 2026-12-05): on the bunny and cornell-box the true error at
+// the stop is 3 to 8% lower than with sobol at the same pass, on cornell-spheres (glass) from 2%
+// higher to 4% lower, within a pass; the reported error is then 1.01 to 1.10 times the true one,
 // an estimate on the safe side.
 const std::vector<Preset>& presets() {
     static const std::vector<Preset> table = {
