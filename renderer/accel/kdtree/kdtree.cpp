@@ -25,6 +25,7 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
     float tMin = 0.0f, tEnd = tMax;
     if (!clipToBox(bounds_, org, invDir, negative, tMin, tEnd)) return false;
     const WatertightRay wr(ray);
+    const BlockRay blockRay(org, invDir, negative);
     const Node* nodes = nodes_.data();
     const uint32_t* leafData = leafData_.data();
 
@@ -66,33 +67,40 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
             continue;
         }
 
-        // Test the leaf's primitives against the closest hit so far: eight lanes at once, then
-        // each lane that may hit by itself.
+        // Test the leaf's blocks against the closest hit so far, eight boxes at once; then the
+        // primitives of each block the ray meets, eight lanes at once; then each lane that may
+        // hit by itself.
         const uint32_t count = node.primCount();
         const uint32_t* leaf = leafData + node.leafOffset;
-        for (uint32_t first = 0; first < count; first += kd_leaf::kLanes) {
-            for (uint32_t lanes = mayHitLanes(leaf, count, first, wr); lanes != 0;
-                 lanes &= lanes - 1u) {
-                const uint32_t i = first + uint32_t(std::countr_zero(lanes));
-                const uint32_t word = leaf[kd_leaf::primitives(count) + i];
-                const uint32_t prim = word & ~kd_leaf::kOtherKind;
-                const auto vertex = [&](int v) {
-                    Vec3 p;
-                    for (int a = 0; a < 3; ++a)
-                        setComponent(
-                            p, a, std::bit_cast<float>(leaf[kd_leaf::coordinate(count, v, a) + i]));
-                    return p;
-                };
-                auto h =
-                    word & kd_leaf::kOtherKind
-                        ? geometry_.intersect(prim, wr, closest)
-                        : Geometry::intersectVertices(wr, closest, vertex(0), vertex(1), vertex(2));
-                if (h) {
-                    if constexpr (AnyHit) return true;
-                    closest = h->t;
-                    best = *h;
-                    bestPrim = prim;
-                    found = true;
+        const uint32_t blocks = kd_leaf::blocks(count);
+        for (uint32_t group = 0; group < blocks; group += kd_leaf::kLanes) {
+            for (uint32_t met = meetsBlocks(leaf, count, group, blockRay, closest); met != 0;
+                 met &= met - 1u) {
+                const uint32_t first = (group + uint32_t(std::countr_zero(met))) * kd_leaf::kLanes;
+                for (uint32_t lanes = mayHitLanes(leaf, count, first, wr); lanes != 0;
+                     lanes &= lanes - 1u) {
+                    const uint32_t i = first + uint32_t(std::countr_zero(lanes));
+                    const uint32_t word = leaf[kd_leaf::primitives(count) + i];
+                    const uint32_t prim = word & ~kd_leaf::kOtherKind;
+                    const auto vertex = [&](int v) {
+                        Vec3 p;
+                        for (int a = 0; a < 3; ++a)
+                            setComponent(
+                                p, a,
+                                std::bit_cast<float>(leaf[kd_leaf::coordinate(count, v, a) + i]));
+                        return p;
+                    };
+                    auto h = word & kd_leaf::kOtherKind
+                                 ? geometry_.intersect(prim, wr, closest)
+                                 : Geometry::intersectVertices(wr, closest, vertex(0), vertex(1),
+                                                               vertex(2));
+                    if (h) {
+                        if constexpr (AnyHit) return true;
+                        closest = h->t;
+                        best = *h;
+                        bestPrim = prim;
+                        found = true;
+                    }
                 }
             }
         }

@@ -2,7 +2,8 @@
 // heuristic (MacDonald & Booth 1990; Wald & Havran 2006, "On building fast kd-trees for ray
 // tracing, and on doing that in O(N log N)"). Structure and traversal follow pbrt-v3's KdTreeAccel
 // (section 4.4): 8-byte nodes in depth-first order, front-to-back traversal with an explicit stack.
-// Leaves hold their triangles' vertices and test eight at once (leaf_data.h).
+// Leaves hold their triangles' vertices in spatial blocks of eight with their boxes, and test
+// eight boxes, then eight triangles, at once (leaf_data.h).
 #pragma once
 
 #include <cstdint>
@@ -15,13 +16,15 @@
 namespace caustic {
 
 /// Costs and limits of the SAH build. Costs are relative: only their ratio matters. The defaults
-/// were chosen with `bench_accel_rays --kdtree-variants` (bench/README.md, 2026-12-04): a test of
-/// eight triangles at once costs about a quarter of a node visit. pbrt-v3's costs (1.5 a
-/// primitive, empty bonus 0.3) gave the bunny 18 times the nodes, built 3.4 times as slowly, and
-/// rays 1.09 to 1.41 times as slow.
+/// were chosen with `bench_accel_rays --kdtree-variants` (bench/README.md, 2026-12-04 and
+/// 2026-12-05): a leaf culls its blocks of eight by their boxes, eight boxes at once, before it
+/// tests any triangle, so that a ray tests about one block of a leaf it enters and a block costs
+/// a thirtieth of a node visit (0.25 before the boxes; 0.06 and 0.015 were slower on some rows).
+/// pbrt-v3's costs (1.5 a primitive, empty bonus 0.3) gave the bunny 18 times the nodes of the
+/// 0.25 tree, built 3.4 times as slowly, and rays 1.09 to 1.41 times as slow.
 struct KdTreeOptions {
     float traversalCost = 1.0f;   ///< Visiting an interior node.
-    float intersectCost = 0.25f;  ///< Testing one block of leafBlock primitives.
+    float intersectCost = 0.03f;  ///< Testing one block of leafBlock primitives.
     /// The leaf test's width, a power of two: a leaf of n triangles costs ceil(n / leafBlock)
     /// tests, as Embree's SAH counts a node's primitives in blocks of its leaves' width
     /// (kernels/builders/heuristic_binning.h); any other primitive costs a test by itself.

@@ -211,11 +211,14 @@ private:
         std::vector<KdRef> above_;  // a partition's above side, before it joins the stack
     };
 
-    // A leaf's primitives and their triangles' vertices, in kd_leaf's layout (leaf_data.h).
-    void appendLeafData(std::span<const KdRef> refs, std::vector<uint32_t>& data) const {
+    // A leaf's primitives and their triangles' vertices, in kd_leaf's layout (leaf_data.h), in
+    // blocks of spatial clusters with their boxes.
+    void appendLeafData(std::span<const KdRef> leafRefs, std::vector<uint32_t>& data) const {
+        std::vector<KdRef> refs(leafRefs.begin(), leafRefs.end());
+        orderIntoBlocks(refs);
         const auto n = uint32_t(refs.size());
         const size_t base = data.size();
-        data.resize(base + size_t(kd_leaf::kWordsPerPrim) * n);
+        data.resize(base + kd_leaf::words(n));
         uint32_t* leaf = data.data() + base;
         for (uint32_t i = 0; i < n; ++i) {
             const uint32_t prim = refs[i].prim;
@@ -229,6 +232,40 @@ private:
                     leaf[kd_leaf::coordinate(n, v, a) + i] =
                         std::bit_cast<uint32_t>(component(p[v], a));
         }
+        // Each block's box: its references' boxes, already clipped to the leaf's cell.
+        for (uint32_t b = 0; b < kd_leaf::blocks(n); ++b) {
+            Bounds3 box;
+            for (uint32_t i = b * kd_leaf::kLanes; i < std::min(n, (b + 1) * kd_leaf::kLanes); ++i)
+                box.extend(refs[i].b);
+            for (int a = 0; a < 3; ++a) {
+                leaf[kd_leaf::blockBound(n, 0, a) + b] =
+                    std::bit_cast<uint32_t>(component(box.lo, a));
+                leaf[kd_leaf::blockBound(n, 1, a) + b] =
+                    std::bit_cast<uint32_t>(component(box.hi, a));
+            }
+        }
+    }
+
+    // Orders references so that each run of kd_leaf::kLanes is a cluster: halves at the median
+    // of their boxes' centres on the centres' widest axis, each half a whole number of blocks,
+    // until a part is one block. Ties go by primitive index, so the order is the same on every
+    // run.
+    static void orderIntoBlocks(std::span<KdRef> refs) {
+        if (refs.size() <= size_t(kd_leaf::kLanes)) return;
+        Bounds3 centres;
+        for (const KdRef& r : refs) centres.extend(r.b.center());
+        const Vec3 d = centres.diagonal();
+        const int axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
+        const size_t blocks = (refs.size() + kd_leaf::kLanes - 1) / kd_leaf::kLanes;
+        const size_t mid = size_t(kd_leaf::kLanes) * ((blocks + 1) / 2);
+        std::nth_element(refs.begin(), refs.begin() + std::ptrdiff_t(mid), refs.end(),
+                         [axis](const KdRef& a, const KdRef& b) {
+                             const float ca = component(a.b.lo, axis) + component(a.b.hi, axis);
+                             const float cb = component(b.b.lo, axis) + component(b.b.hi, axis);
+                             return ca < cb || (ca == cb && a.prim < b.prim);
+                         });
+        orderIntoBlocks(refs.first(mid));
+        orderIntoBlocks(refs.subspan(mid));
     }
 
     double areaRatio(const Bounds3& box) const {

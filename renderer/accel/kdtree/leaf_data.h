@@ -1,15 +1,21 @@
-// A kd-tree leaf's primitives, stored with it, and the watertight test's first step for eight of
-// them at once. A leaf of n primitives is 10 n words in one array: the n triangles' vertex
+// A kd-tree leaf's primitives, stored with it, and the tests that cull them eight at once: the
+// bounding boxes of its blocks of eight, and the watertight test's first step. A leaf of n
+// primitives in b = ceil(n / 8) blocks is 10 n + 6 b words in one array: the n triangles' vertex
 // coordinates, one coordinate at a time (vertex 0's x of all n, its y, its z, then vertex 1's,
-// vertex 2's), then the n primitive indices. So each coordinate of eight triangles is one vector
-// load, as in Embree's Triangle4v, but a leaf is not padded to a multiple of the vector: its lanes
-// past n read the next coordinate's words and are masked off. Triangles only: a lane that is
-// another primitive (sphere, quad) has zero vertices, and its primitive word is marked.
+// vertex 2's), then the n primitive indices, then the blocks' boxes (the low x of all b, low y,
+// low z, high x, high y, high z). So each coordinate of eight triangles is one vector load, as in
+// Embree's Triangle4v, and so is each bound of eight blocks; a leaf is not padded to a multiple of
+// the vector: its lanes past n (or b) read the next words and are masked off. The builder orders
+// a leaf's primitives so that each block is a spatial cluster with a small box (a median split,
+// as a BVH's leaves): a ray through the leaf's cell tests only the blocks whose boxes it meets.
+// Triangles only: a lane that is another primitive (sphere, quad) has zero vertices, and its
+// primitive word is marked.
 #pragma once
 
 #include <cstdint>
 #include <cstring>
 
+#include "core/bounds.h"
 #include "geometry/triangle.h"
 
 #if defined(__AVX__)
@@ -32,6 +38,18 @@ inline uint32_t coordinate(uint32_t n, int v, int axis) {
 }
 inline uint32_t primitives(uint32_t n) {
     return 9 * n;
+}
+/// The blocks of kLanes primitives in a leaf of n, and the word offset of bound `side` (0 low, 1
+/// high) on `axis` of the first block's box.
+inline uint32_t blocks(uint32_t n) {
+    return (n + kLanes - 1) / kLanes;
+}
+inline uint32_t blockBound(uint32_t n, int side, int axis) {
+    return 10 * n + uint32_t(3 * side + axis) * blocks(n);
+}
+/// The words of a leaf of n primitives.
+inline uint32_t words(uint32_t n) {
+    return 10 * n + 6 * blocks(n);
 }
 
 /// The top bit of a primitive word marks a primitive other than a triangle, so that the traversal
@@ -92,7 +110,65 @@ inline Floats differenceOfProducts(Floats a, Floats b, Floats c, Floats d) {
     return dop + err;
 }
 
+// Lanes of `a` where `mask` is set, else of `b`.
+inline Floats select(Ints mask, Floats a, Floats b) {
+    Ints ia, ib;
+    std::memcpy(&ia, &a, sizeof a);
+    std::memcpy(&ib, &b, sizeof b);
+    ia = (ia & mask) | (ib & ~mask);
+    std::memcpy(&a, &ia, sizeof a);
+    return a;
+}
+
+inline uint32_t movemask(Ints v) {
+#if defined(__AVX__)
+    static_assert(kd_leaf::kLanes == 8);
+    return uint32_t(_mm256_movemask_ps((__m256)v));
+#else
+    uint32_t mask = 0;
+    for (int l = 0; l < kd_leaf::kLanes; ++l) mask |= uint32_t(v[l] & 1) << l;
+    return mask;
+#endif
+}
+
 }  // namespace leaf_simd
+
+/// A ray set up for the test of eight block boxes at once: its origin and inverse direction in
+/// every lane, and the direction's signs (directionSignBits).
+struct BlockRay {
+    leaf_simd::Floats org[3], invDir[3];
+    uint32_t negative;
+
+    BlockRay(const Vec3& o, const Vec3& inv, uint32_t negativeBits) : negative(negativeBits) {
+        for (int a = 0; a < 3; ++a) {
+            org[a] = leaf_simd::splat(component(o, a));
+            invDir[a] = leaf_simd::splat(component(inv, a));
+        }
+    }
+};
+
+/// Blocks first .. first + 7 of the leaf of n primitives at `leaf` whose boxes the ray meets
+/// within [0, tMax]: one bit each. clipToBox's slab test (core/bounds.h), the same operations
+/// lane by lane, so that a block is culled only where clipToBox would say the ray misses its box.
+/// Lanes past the leaf's last block are not set.
+inline uint32_t meetsBlocks(const uint32_t* leaf, uint32_t n, uint32_t first, const BlockRay& r,
+                            float tMax) {
+    using namespace leaf_simd;
+    Floats t0 = splat(0.0f), t1 = splat(tMax);
+    const Floats slack = splat(1.0f + kRayBoxSlack);
+    for (int a = 0; a < 3; ++a) {
+        const int flip = int((r.negative >> a) & 1u);
+        const Floats tNear =
+            (load(leaf + kd_leaf::blockBound(n, flip, a) + first) - r.org[a]) * r.invDir[a];
+        const Floats tFar = (load(leaf + kd_leaf::blockBound(n, flip ^ 1, a) + first) - r.org[a]) *
+                            r.invDir[a] * slack;
+        t0 = select(tNear > t0, tNear, t0);
+        t1 = select(tFar < t1, tFar, t1);
+    }
+    const uint32_t mask = movemask(t0 <= t1);
+    const uint32_t left = kd_leaf::blocks(n) - first;
+    return left < kd_leaf::kLanes ? mask & ((1u << left) - 1u) : mask;
+}
 
 /// Lanes first .. first + 7 of the leaf of n primitives at `leaf`: those whose triangles
 /// intersectTriangle may hit, one bit each. Its float edge test, for every lane at once, with the
@@ -119,13 +195,7 @@ inline uint32_t mayHitLanes(const uint32_t* leaf, uint32_t n, uint32_t first,
     const Ints tiny = (abs(e0) < smallest) | (abs(e1) < smallest) | (abs(e2) < smallest);
     const Ints negative = (e0 < zero) | (e1 < zero) | (e2 < zero);
     const Ints positive = (e0 > zero) | (e1 > zero) | (e2 > zero);
-    const Ints keep = tiny | ~(negative & positive);
-#if defined(__AVX__)
-    uint32_t mask = uint32_t(_mm256_movemask_ps((__m256)keep));
-#else
-    uint32_t mask = 0;
-    for (int l = 0; l < kd_leaf::kLanes; ++l) mask |= uint32_t(keep[l] & 1) << l;
-#endif
+    const uint32_t mask = movemask(tiny | ~(negative & positive));
     const uint32_t left = n - first;
     return left < kd_leaf::kLanes ? mask & ((1u << left) - 1u) : mask;
 }

@@ -53,8 +53,8 @@ TEST(KdTreeBuild, SameTreeOnEveryThreadCount) {
                 "/meshes/stanford-bunny.obj");
     Geometry geometry;
     geometry.addTriangles(mesh.positions, mesh.triangles, 0);
-    // At least this many nodes: the default tree's leaves hold blocks of eight triangles.
-    const size_t minNodes[] = {10000, 100000};
+    // At least this many nodes: the default tree's leaves hold many blocks of eight triangles.
+    const size_t minNodes[] = {1000, 100000};
     const std::vector<testing::KdTreeVariant> variants = testing::kdTreeVariants();
     ASSERT_EQ(variants.size(), std::size(minNodes));
     for (size_t v = 0; v < variants.size(); ++v) {
@@ -74,8 +74,8 @@ TEST(KdTreeBuild, SameTreeOnEveryThreadCount) {
 }
 
 // A leaf tests eight triangles at once but spheres one by one, and the SAH counts them so: the same
-// grid of small shapes makes leaves of fewer than eight spheres (4.5 on average; 16 when spheres
-// were counted as triangles) but of more than eight triangles.
+// grid of small shapes makes leaves of eight times as many triangles as spheres (16 spheres and
+// 128 triangles on average with the default costs; counted alike, they would be the same size).
 TEST(KdTreeBuild, LeavesHoldTrianglesByTheBlockAndSpheresOneByOne) {
     auto meanLeaf = [](const KdTreeAccel& tree) {
         const KdTreeStats& s = tree.stats();
@@ -86,8 +86,8 @@ TEST(KdTreeBuild, LeavesHoldTrianglesByTheBlockAndSpheresOneByOne) {
     addGrid(triangles, 16, [](int, int, int) { return false; });
     const double sphereLeaf = meanLeaf(KdTreeAccel(spheres));
     const double triangleLeaf = meanLeaf(KdTreeAccel(triangles));
-    EXPECT_LT(sphereLeaf, 8.0);
-    EXPECT_GT(triangleLeaf, 8.0);
+    EXPECT_GT(triangleLeaf, 4.0 * sphereLeaf)
+        << sphereLeaf << " spheres, " << triangleLeaf << " triangles";
 }
 
 // A leaf's lane is tested as a triangle, from the vertices the leaf holds, unless its primitive

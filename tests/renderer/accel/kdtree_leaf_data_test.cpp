@@ -64,18 +64,30 @@ void randomTriangle(Rng& rng, const Ray& ray, float scale, Triangle& p) {
     }
 }
 
+// A scale from 1e-4 to 1e4, and a ray at that scale: its direction along an axis when
+// `axisAligned` (zero components), else random; false for the rare zero direction.
+float randomScale(Rng& rng) {
+    return std::pow(10.0f, float(int(rng.nextUint() % 9) - 4));
+}
+
+bool randomRay(Rng& rng, float scale, bool axisAligned, Ray& ray) {
+    ray = Ray{randomVec(rng, scale), randomVec(rng, 1.0f)};
+    if (axisAligned) {
+        ray.d = Vec3(0.0f);
+        setComponent(ray.d, int(rng.nextUint() % 3), -1.0f);
+    }
+    if (!(glm::length(ray.d) > 0.0f)) return false;
+    ray.d = glm::normalize(ray.d);
+    return true;
+}
+
 TEST(KdLeaf, KeepsExactlyTheLanesTheScalarEdgeTestKeeps) {
     Rng rng(17);
     uint64_t lanes = 0, kept = 0, hits = 0;
     for (int trial = 0; trial < 10000; ++trial) {
-        const float scale = std::pow(10.0f, float(int(rng.nextUint() % 9) - 4));
-        Ray ray{randomVec(rng, scale), randomVec(rng, 1.0f)};
-        if (trial % 5 == 0) {
-            ray.d = Vec3(0.0f);
-            setComponent(ray.d, int(rng.nextUint() % 3), -1.0f);
-        }
-        if (!(glm::length(ray.d) > 0.0f)) continue;
-        ray.d = glm::normalize(ray.d);
+        const float scale = randomScale(rng);
+        Ray ray;
+        if (!randomRay(rng, scale, trial % 5 == 0, ray)) continue;
         const WatertightRay wr(ray);
 
         // A leaf of 1 to 20 triangles, so that lanes past its end read the next coordinate's
@@ -117,6 +129,77 @@ TEST(KdLeaf, KeepsExactlyTheLanesTheScalarEdgeTestKeeps) {
     // Both outcomes occur often, so the comparison above means something.
     EXPECT_GT(hits, lanes / 10);
     EXPECT_LT(kept, lanes * 3 / 4);
+}
+
+// A leaf culls its blocks of eight by their boxes, eight boxes at once (meetsBlocks). It must keep
+// exactly the blocks whose boxes clipToBox says the ray meets within [0, tMax], bit for bit: a
+// block culled wrongly is a hit the kd-tree misses. Boxes of every kind that matters: around the
+// ray, anywhere, flat on an axis (a triangle in an axis plane), with the origin on a face (a NaN
+// slab for a zero direction component), and empty ones.
+TEST(KdLeaf, CullsExactlyTheBlocksClipToBoxRejects) {
+    Rng rng(29);
+    uint64_t blocks = 0, met = 0;
+    for (int trial = 0; trial < 10000; ++trial) {
+        const float scale = randomScale(rng);
+        Ray ray;
+        if (!randomRay(rng, scale, trial % 5 == 0, ray)) continue;
+        const Vec3 invDir = 1.0f / ray.d;
+        const uint32_t negative = directionSignBits(ray.d);
+        const BlockRay blockRay(ray.o, invDir, negative);
+        const float tMax = rng.nextUint() % 2 ? kInfinity : scale * 4.0f * rng.uniform();
+
+        // A leaf of 1 to 140 primitives: 1 to 18 blocks, so that a second group of eight boxes
+        // and lanes past the last block (reading the padding, which must be masked off) occur.
+        const uint32_t n = 1 + rng.nextUint() % 140, b = kd_leaf::blocks(n);
+        std::vector<Bounds3> box(b);
+        std::vector<uint32_t> leaf(kd_leaf::words(n) + kd_leaf::kPadWords, 0x7fc00000u);
+        for (uint32_t k = 0; k < b; ++k) {
+            const Vec3 onRay = ray.o + (scale * 4.0f * rng.uniform()) * ray.d;
+            const Vec3 c = rng.nextUint() % 2 ? onRay + randomVec(rng, scale * 0.2f)
+                                              : randomVec(rng, scale * 4.0f);
+            const Vec3 h = glm::abs(randomVec(rng, scale * 0.2f));
+            box[k] = Bounds3{c - h, c + h};
+            const int axis = int(rng.nextUint() % 3);
+            switch (rng.nextUint() % 5) {
+                case 0:  // flat
+                    setComponent(box[k].hi, axis, component(box[k].lo, axis));
+                    break;
+                case 1:  // the origin on a face
+                    setComponent(box[k].lo, axis, component(ray.o, axis));
+                    break;
+                case 2:  // empty
+                    std::swap(box[k].lo, box[k].hi);
+                    break;
+                default:
+                    break;
+            }
+            for (int a = 0; a < 3; ++a) {
+                leaf[kd_leaf::blockBound(n, 0, a) + k] =
+                    std::bit_cast<uint32_t>(component(box[k].lo, a));
+                leaf[kd_leaf::blockBound(n, 1, a) + k] =
+                    std::bit_cast<uint32_t>(component(box[k].hi, a));
+            }
+        }
+        for (uint32_t first = 0; first < b; first += kd_leaf::kLanes) {
+            const uint32_t mask = meetsBlocks(leaf.data(), n, first, blockRay, tMax);
+            for (uint32_t l = 0; l < uint32_t(kd_leaf::kLanes); ++l) {
+                const bool lane = (mask >> l) & 1u;
+                const uint32_t k = first + l;
+                if (k >= b) {
+                    ASSERT_FALSE(lane) << "trial " << trial << ": block " << k << " of " << b;
+                    continue;
+                }
+                float t0 = 0.0f, t1 = tMax;
+                ASSERT_EQ(lane, clipToBox(box[k], ray.o, invDir, negative, t0, t1))
+                    << "trial " << trial << ", block " << k;
+                ++blocks;
+                met += lane;
+            }
+        }
+    }
+    // Both outcomes occur often, so the comparison above means something.
+    EXPECT_GT(met, blocks / 20);
+    EXPECT_LT(met, blocks * 3 / 4);
 }
 
 }  // namespace
