@@ -27,7 +27,6 @@ namespace caustic {
 namespace kd_leaf {
 
 constexpr int kLanes = 8;
-constexpr uint32_t kWordsPerPrim = 10;
 /// Words after the last leaf, so that its vector loads stay inside the array.
 constexpr uint32_t kPadWords = kLanes;
 
@@ -45,11 +44,11 @@ inline uint32_t blocks(uint32_t n) {
     return (n + kLanes - 1) / kLanes;
 }
 inline uint32_t blockBound(uint32_t n, int side, int axis) {
-    return 10 * n + uint32_t(3 * side + axis) * blocks(n);
+    return primitives(n) + n + uint32_t(3 * side + axis) * blocks(n);
 }
 /// The words of a leaf of n primitives.
 inline uint32_t words(uint32_t n) {
-    return 10 * n + 6 * blocks(n);
+    return primitives(n) + n + 6 * blocks(n);
 }
 
 /// The top bit of a primitive word marks a primitive other than a triangle, so that the traversal

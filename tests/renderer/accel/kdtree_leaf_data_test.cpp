@@ -95,7 +95,7 @@ TEST(KdLeaf, KeepsExactlyTheLanesTheScalarEdgeTestKeeps) {
         // padding after them, with garbage that must be masked off.
         const uint32_t n = 1 + rng.nextUint() % 20;
         std::vector<Triangle> tri(n);
-        std::vector<uint32_t> leaf(kd_leaf::kWordsPerPrim * n + kd_leaf::kPadWords);
+        std::vector<uint32_t> leaf(kd_leaf::words(n) + kd_leaf::kPadWords);
         for (uint32_t i = 0; i < n; ++i) {
             randomTriangle(rng, ray, scale, tri[i]);
             leaf[kd_leaf::primitives(n) + i] = rng.nextUint();
@@ -104,7 +104,7 @@ TEST(KdLeaf, KeepsExactlyTheLanesTheScalarEdgeTestKeeps) {
                     leaf[kd_leaf::coordinate(n, v, a) + i] =
                         std::bit_cast<uint32_t>(component(tri[i][v], a));
         }
-        for (uint32_t w = kd_leaf::kWordsPerPrim * n; w < leaf.size(); ++w) leaf[w] = 0;
+        for (uint32_t w = kd_leaf::primitives(n) + n; w < leaf.size(); ++w) leaf[w] = 0;
         for (uint32_t first = 0; first < n; first += kd_leaf::kLanes) {
             const uint32_t mask = mayHitLanes(leaf.data(), n, first, wr);
             for (uint32_t l = 0; l < uint32_t(kd_leaf::kLanes); ++l) {
