@@ -56,8 +56,16 @@ void setLeafBlock(Options& o, uint32_t block) {
         throw std::invalid_argument("this renderer's kd-tree has no leafBlock");
 }
 
+template <class Options>
+void setTopDepth(Options& o, int depth) {
+    if constexpr (requires { o.topDepth; })
+        o.topDepth = depth;
+    else
+        throw std::invalid_argument("this renderer's kd-tree has no topDepth");
+}
+
 // The options of a variant "key=value[:key=value...]" (keys: depth, traversal, intersect, block,
-// bonus); throws on anything else.
+// bonus, top); throws on anything else.
 KdTreeOptions variantOptions(const std::string& spec) {
     KdTreeOptions o;
     std::istringstream in(spec);
@@ -81,11 +89,13 @@ KdTreeOptions variantOptions(const std::string& spec) {
             setLeafBlock(o, uint32_t(v));
         else if (key == "bonus" && v >= 0 && v < 1)
             o.emptyBonus = float(v);
+        else if (key == "top" && v >= 0 && v <= 6 && v == std::floor(v))
+            setTopDepth(o, int(v));
         else
             throw std::invalid_argument(
                 "kd-tree variant '" + spec + "': '" + item +
-                "' is not depth=1..60, traversal=>0, intersect=>0, block=power of two or "
-                "bonus=[0,1)");
+                "' is not depth=1..60, traversal=>0, intersect=>0, block=power of two, "
+                "bonus=[0,1) or top=0..6");
     }
     return o;
 }
@@ -112,7 +122,8 @@ int parseArgs(int argc, char** argv, Options& o) {
     app.add_option("--kdtree-variants", o.kdtreeVariants,
                    "Also build kd-trees of other KdTreeOptions, comma-separated, each "
                    "key=value[:key=value...] of depth (maxDepth), traversal (traversalCost), "
-                   "intersect (intersectCost), block (leafBlock), bonus (emptyBonus); timed in "
+                   "intersect (intersectCost), block (leafBlock), bonus (emptyBonus), top "
+                   "(topDepth); timed in "
                    "the same interleaved rounds: a table gives each one's cost over the default "
                    "kd-tree's")
         ->delimiter(',')

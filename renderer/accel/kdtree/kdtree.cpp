@@ -24,7 +24,6 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
     const uint32_t negative = directionSignBits(ray.d);
     float tMin = 0.0f, tEnd = tMax;
     if (!clipToBox(bounds_, org, invDir, negative, tMin, tEnd)) return false;
-    const WatertightRay wr(ray);
     const BlockRay blockRay(org, invDir, negative);
     const Node* nodes = nodes_.data();
     const uint32_t* leafData = leafData_.data();
@@ -33,14 +32,36 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
         uint32_t node;
         float tMin, tMax;
     };
-    Todo todo[kMaxDepth + 4];
+    Todo todo[kMaxDepth + 4 + KdTopCells::kMaxCells];
     int todoCount = 0;
+    // The top cells whose boxes the ray meets, each with the ray's range in its box, pushed the
+    // farthest first so that they are popped front to back (top_cells.h).
+    const KdTopCells::Octant& top = top_.octants[negative];
+    for (uint32_t group = top.stride; group != 0;) {
+        group -= kd_leaf::kLanes;
+        const BoxHits cells =
+            meetsBoxes(top.bounds.data(), top.stride, top.count, group, blockRay, tMin, tEnd);
+        for (uint32_t met = cells.mask; met != 0;) {
+            const int lane = 31 - std::countl_zero(met);
+            met &= ~(1u << lane);
+            todo[todoCount++] =
+                Todo{top.roots[group + uint32_t(lane)], cells.tNear[lane], cells.tFar[lane]};
+        }
+    }
+    if (todoCount == 0) return false;
+    const WatertightRay wr(ray);
     float closest = tMax;
     bool found = false;
-    uint32_t index = 0;
-    while (true) {
-        const Node& node = nodes[index];
-        if (!node.isLeaf()) {
+    while (todoCount != 0) {
+        --todoCount;
+        uint32_t index = todo[todoCount].node;
+        tMin = todo[todoCount].tMin;
+        tEnd = todo[todoCount].tMax;
+        // Everything left lies beyond the closest hit.
+        if (closest < tMin * (1.0f - kSlack)) break;
+        while (true) {
+            const Node& node = nodes[index];
+            if (node.isLeaf()) break;
             // The near child, which the ray enters first, is the one below the plane when the
             // direction's component is positive, above it when negative. A zero component puts
             // the plane at -inf or +inf, the far or the near child alone, or at NaN when the ray
@@ -64,12 +85,12 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
                 index = nearChild;
                 tEnd = tPlane;
             }
-            continue;
         }
 
         // Test the leaf's blocks against the closest hit so far, eight boxes at once; then the
         // primitives of each block the ray meets, eight lanes at once; then each lane that may
         // hit by itself.
+        const Node& node = nodes[index];
         const uint32_t count = node.primCount();
         const uint32_t* leaf = leafData + node.leafOffset;
         const uint32_t blocks = kd_leaf::blocks(count);
@@ -104,13 +125,6 @@ bool KdTreeAccel::traverse(const Ray& ray, float tMax, uint32_t& bestPrim, PrimH
                 }
             }
         }
-        if (todoCount == 0) break;
-        --todoCount;
-        index = todo[todoCount].node;
-        tMin = todo[todoCount].tMin;
-        tEnd = todo[todoCount].tMax;
-        // Everything left lies beyond the closest hit.
-        if (closest < tMin * (1.0f - kSlack)) break;
     }
     return found;
 }

@@ -3,7 +3,8 @@
 // tracing, and on doing that in O(N log N)"). Structure and traversal follow pbrt-v3's KdTreeAccel
 // (section 4.4): 8-byte nodes in depth-first order, front-to-back traversal with an explicit stack.
 // Leaves hold their triangles' vertices in spatial blocks of eight with their boxes, and test
-// eight boxes, then eight triangles, at once (leaf_data.h).
+// eight boxes, then eight triangles, at once (leaf_data.h). The subtrees at a small depth have
+// boxes too, which a ray tests eight at once before it takes a step (top_cells.h).
 #pragma once
 
 #include <cstdint>
@@ -12,6 +13,7 @@
 
 #include "accel/accelerator.h"
 #include "accel/kdtree/leaf_data.h"
+#include "accel/kdtree/top_cells.h"
 
 namespace caustic {
 
@@ -36,6 +38,9 @@ struct KdTreeOptions {
     /// noise (bunny, teapot, bunny-1m, primary and incoherent rays, 2026-12-03).
     int maxDepth = 0;
     bool clipPrimitives = true;  ///< Clip straddling primitives to child boxes ("perfect splits").
+    /// The depth of the top cells (top_cells.h), at most KdTopCells::kMaxDepth; 0: the whole tree
+    /// is one cell, with the box of every primitive.
+    int topDepth = 6;
 
     /// The tests a leaf of n triangles costs.
     uint32_t leafTests(uint32_t n) const { return (n + leafBlock - 1) / leafBlock; }
@@ -49,6 +54,7 @@ struct KdTreeStats {
     uint32_t maxDepth = 0;
     uint64_t references = 0;  ///< Primitive references in leaves (a primitive may be in several).
     double sahCost = 0;       ///< Expected cost of a ray by the SAH, relative to traversalCost.
+    uint32_t topCells = 0;    ///< Top cells with primitives (top_cells.h).
 };
 
 class KdTreeAccel final : public Accelerator {
@@ -69,6 +75,7 @@ public:
     /// that the build is deterministic.
     std::span<const Node> nodes() const { return nodes_; }
     std::span<const uint32_t> leafData() const { return leafData_; }
+    const KdTopCells& topCells() const { return top_; }
 
     /// A node: 4 bytes of split position or leaf data offset, 4 bytes of flags and counts.
     struct Node {
@@ -87,11 +94,13 @@ public:
 private:
     template <bool AnyHit>
     bool traverse(const Ray& ray, float tMax, uint32_t& prim, PrimHit& hit) const;
+    void buildTopCells(int depth);  // after the build: top_ from nodes_ and leafData_
 
     const Geometry& geometry_;
     Bounds3 bounds_;
     std::vector<Node> nodes_;
     std::vector<uint32_t> leafData_;  // the leaves' primitives and vertices, kd_leaf's layout
+    KdTopCells top_;
     KdTreeStats stats_;
 
     friend class KdTreeBuilder;

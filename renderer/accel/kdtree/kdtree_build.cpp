@@ -376,11 +376,14 @@ KdTreeAccel::KdTreeAccel(const Geometry& geometry, const KdTreeOptions& options)
     : geometry_(geometry) {
     static_assert(sizeof(Node) == 8);
     CAUSTIC_CHECK(std::has_single_bit(options.leafBlock));
+    CAUSTIC_CHECK(options.topDepth >= 0 && options.topDepth <= KdTopCells::kMaxDepth);
     KdTreeBuilder(*this, options).build();
+    buildTopCells(options.topDepth);
 }
 
 size_t KdTreeAccel::memoryBytes() const {
-    return nodes_.capacity() * sizeof(Node) + leafData_.capacity() * sizeof(uint32_t);
+    return nodes_.capacity() * sizeof(Node) + leafData_.capacity() * sizeof(uint32_t) +
+           top_.memoryBytes();
 }
 
 }  // namespace caustic

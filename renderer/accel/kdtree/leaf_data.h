@@ -146,27 +146,45 @@ struct BlockRay {
     }
 };
 
-/// Blocks first .. first + 7 of the leaf of n primitives at `leaf` whose boxes the ray meets
-/// within [0, tMax]: one bit each. clipToBox's slab test (core/bounds.h), the same operations
-/// lane by lane, so that a block is culled only where clipToBox would say the ray misses its box.
-/// Lanes past the leaf's last block are not set.
-inline uint32_t meetsBlocks(const uint32_t* leaf, uint32_t n, uint32_t first, const BlockRay& r,
-                            float tMax) {
+/// What meetsBoxes finds of eight boxes: the boxes the ray meets, one bit each, and each lane's
+/// range of the ray inside its box.
+struct BoxHits {
+    uint32_t mask;
+    leaf_simd::Floats tNear, tFar;
+};
+
+/// Boxes first .. first + 7 of the `count` boxes stored as six rows of `stride` words from `rows`
+/// (low x of every box, low y, low z, high x, high y, high z) that the ray meets within [t0, t1].
+/// clipToBox's slab test (core/bounds.h), the same operations lane by lane, so that a box is
+/// culled only where clipToBox would say the ray misses it, and a lane's range is the one
+/// clipToBox would clip [t0, t1] to. Lanes past the last box are not set.
+inline BoxHits meetsBoxes(const uint32_t* rows, uint32_t stride, uint32_t count, uint32_t first,
+                          const BlockRay& r, float t0, float t1) {
     using namespace leaf_simd;
-    Floats t0 = splat(0.0f), t1 = splat(tMax);
+    Floats tMin = splat(t0), tMax = splat(t1);
     const Floats slack = splat(1.0f + kRayBoxSlack);
     for (int a = 0; a < 3; ++a) {
         const int flip = int((r.negative >> a) & 1u);
         const Floats tNear =
-            (load(leaf + kd_leaf::blockBound(n, flip, a) + first) - r.org[a]) * r.invDir[a];
-        const Floats tFar = (load(leaf + kd_leaf::blockBound(n, flip ^ 1, a) + first) - r.org[a]) *
-                            r.invDir[a] * slack;
-        t0 = select(tNear > t0, tNear, t0);
-        t1 = select(tFar < t1, tFar, t1);
+            (load(rows + uint32_t(3 * flip + a) * stride + first) - r.org[a]) * r.invDir[a];
+        const Floats tFar =
+            (load(rows + uint32_t(3 * (flip ^ 1) + a) * stride + first) - r.org[a]) * r.invDir[a] *
+            slack;
+        tMin = select(tNear > tMin, tNear, tMin);
+        tMax = select(tFar < tMax, tFar, tMax);
     }
-    const uint32_t mask = movemask(t0 <= t1);
-    const uint32_t left = kd_leaf::blocks(n) - first;
-    return left < kd_leaf::kLanes ? mask & ((1u << left) - 1u) : mask;
+    const uint32_t mask = movemask(tMin <= tMax);
+    const uint32_t left = count - first;
+    return {left < kd_leaf::kLanes ? mask & ((1u << left) - 1u) : mask, tMin, tMax};
+}
+
+/// Blocks first .. first + 7 of the leaf of n primitives at `leaf` whose boxes the ray meets
+/// within [0, tMax]: one bit each (meetsBoxes).
+inline uint32_t meetsBlocks(const uint32_t* leaf, uint32_t n, uint32_t first, const BlockRay& r,
+                            float tMax) {
+    return meetsBoxes(leaf + kd_leaf::blockBound(n, 0, 0), kd_leaf::blocks(n), kd_leaf::blocks(n),
+                      first, r, 0.0f, tMax)
+        .mask;
 }
 
 /// Lanes first .. first + 7 of the leaf of n primitives at `leaf`: those whose triangles
