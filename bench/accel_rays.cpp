@@ -56,6 +56,15 @@ void setLeafBlock(Options& o, uint32_t block) {
         throw std::invalid_argument("this renderer's kd-tree has no leafBlock");
 }
 
+// The stats' top cells (top_cells.h), or "—" for a revision without them.
+template <class Stats>
+std::string topCells(const Stats& s) {
+    if constexpr (requires { s.topCells; })
+        return std::to_string(s.topCells);
+    else
+        return "—";
+}
+
 template <class Options>
 void setTopDepth(Options& o, int depth) {
     if constexpr (requires { o.topDepth; })
@@ -376,15 +385,16 @@ void printTables(const std::vector<MeshResult>& results, const Options& opt, int
     std::cout << "\nmemoryBytes: what the accelerator holds beyond the Geometry. Embree's is what "
                  "its device's memory monitor reports (BVH and vertex buffers).\n";
 
-    std::cout << "\n### kdtree structure\n\n"
-              << "| mesh | nodes | interior | leaves | empty leaves | max depth | references / "
-                 "triangle | SAH cost |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::cout
+        << "\n### kdtree structure\n\n"
+        << "| mesh | nodes | interior | leaves | empty leaves | max depth | references / "
+           "triangle | SAH cost | top cells |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const MeshResult& r : results)
         std::cout << "| " << r.name << " | " << r.kd.interiorNodes + r.kd.leaves << " | "
                   << r.kd.interiorNodes << " | " << r.kd.leaves << " | " << r.kd.emptyLeaves
                   << " | " << r.kd.maxDepth << " | "
                   << fmt("%.2f", double(r.kd.references) / double(r.triangles)) << " | "
-                  << fmt("%.2f", r.kd.sahCost) << " |\n";
+                  << fmt("%.2f", r.kd.sahCost) << " | " << topCells(r.kd) << " |\n";
 
     std::cout << "\n### Rays per second (millions), median of " << reps
               << " interleaved runs; closest = intersect, occluded = occluded(tMax = inf)\n\n"
