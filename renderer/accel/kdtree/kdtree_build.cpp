@@ -212,9 +212,9 @@ private:
     };
 
     // A leaf's primitives and their triangles' vertices, in kd_leaf's layout (leaf_data.h), in
-    // blocks of spatial clusters with their boxes.
-    void appendLeafData(std::span<const KdRef> leafRefs, std::vector<uint32_t>& data) const {
-        std::vector<KdRef> refs(leafRefs.begin(), leafRefs.end());
+    // blocks of spatial clusters with their boxes. Orders `refs` (the leaf's part of the
+    // reference stack, which the leaf is the last to read) into those blocks in place.
+    void appendLeafData(std::span<KdRef> refs, std::vector<uint32_t>& data) const {
         orderIntoBlocks(refs);
         const auto n = uint32_t(refs.size());
         const size_t base = data.size();
@@ -237,12 +237,7 @@ private:
             Bounds3 box;
             for (uint32_t i = b * kd_leaf::kLanes; i < std::min(n, (b + 1) * kd_leaf::kLanes); ++i)
                 box.extend(refs[i].b);
-            for (int a = 0; a < 3; ++a) {
-                leaf[kd_leaf::blockBound(n, 0, a) + b] =
-                    std::bit_cast<uint32_t>(component(box.lo, a));
-                leaf[kd_leaf::blockBound(n, 1, a) + b] =
-                    std::bit_cast<uint32_t>(component(box.hi, a));
-            }
+            storeBoxInRows(leaf + kd_leaf::blockBound(n, 0, 0), kd_leaf::blocks(n), b, box);
         }
     }
 

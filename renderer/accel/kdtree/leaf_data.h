@@ -12,6 +12,7 @@
 // primitive word is marked.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 
@@ -145,6 +146,25 @@ struct BlockRay {
         }
     }
 };
+
+/// Box i of boxes stored as six rows of `stride` words from `rows` (low x of every box, low y,
+/// low z, high x, high y, high z; float bits): the layout of a leaf's block boxes (from
+/// kd_leaf::blockBound(n, 0, 0), stride kd_leaf::blocks(n)) and of the top cells' boxes, which
+/// meetsBoxes reads eight at a time.
+inline void storeBoxInRows(uint32_t* rows, uint32_t stride, uint32_t i, const Bounds3& box) {
+    for (int a = 0; a < 3; ++a) {
+        rows[uint32_t(a) * stride + i] = std::bit_cast<uint32_t>(component(box.lo, a));
+        rows[uint32_t(3 + a) * stride + i] = std::bit_cast<uint32_t>(component(box.hi, a));
+    }
+}
+inline Bounds3 loadBoxInRows(const uint32_t* rows, uint32_t stride, uint32_t i) {
+    Bounds3 box;
+    for (int a = 0; a < 3; ++a) {
+        setComponent(box.lo, a, std::bit_cast<float>(rows[uint32_t(a) * stride + i]));
+        setComponent(box.hi, a, std::bit_cast<float>(rows[uint32_t(3 + a) * stride + i]));
+    }
+    return box;
+}
 
 /// What meetsBoxes finds of eight boxes: the boxes the ray meets, one bit each, and each lane's
 /// range of the ray inside its box.

@@ -25,14 +25,9 @@ Bounds3 subtreeBox(std::span<const Node> nodes, const uint32_t* leafData, uint32
         return box;
     }
     const uint32_t n = node.primCount();
-    const uint32_t* leaf = leafData + node.leafOffset;
     for (uint32_t b = 0; b < kd_leaf::blocks(n); ++b)
-        for (int side = 0; side < 2; ++side) {
-            Vec3 p;
-            for (int a = 0; a < 3; ++a)
-                setComponent(p, a, std::bit_cast<float>(leaf[kd_leaf::blockBound(n, side, a) + b]));
-            box.extend(p);
-        }
+        box.extend(loadBoxInRows(leafData + node.leafOffset + kd_leaf::blockBound(n, 0, 0),
+                                 kd_leaf::blocks(n), b));
     return box;
 }
 
@@ -76,14 +71,9 @@ void KdTreeAccel::buildTopCells(int depth) {
         for (uint32_t root : roots) {
             const auto cell = std::ranges::lower_bound(cells, root, {}, &Cell::root);
             if (cell == cells.end() || cell->root != root) continue;
-            const uint32_t i = uint32_t(octant.roots.size());
+            storeBoxInRows(octant.bounds.data(), octant.stride, uint32_t(octant.roots.size()),
+                           cell->box);
             octant.roots.push_back(root);
-            for (int a = 0; a < 3; ++a) {
-                octant.bounds[uint32_t(a) * octant.stride + i] =
-                    std::bit_cast<uint32_t>(component(cell->box.lo, a));
-                octant.bounds[uint32_t(3 + a) * octant.stride + i] =
-                    std::bit_cast<uint32_t>(component(cell->box.hi, a));
-            }
         }
     }
     stats_.topCells = uint32_t(cells.size());

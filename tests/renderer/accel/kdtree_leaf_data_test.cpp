@@ -173,12 +173,7 @@ TEST(KdLeaf, CullsExactlyTheBlocksClipToBoxRejects) {
                 default:
                     break;
             }
-            for (int a = 0; a < 3; ++a) {
-                leaf[kd_leaf::blockBound(n, 0, a) + k] =
-                    std::bit_cast<uint32_t>(component(box[k].lo, a));
-                leaf[kd_leaf::blockBound(n, 1, a) + k] =
-                    std::bit_cast<uint32_t>(component(box[k].hi, a));
-            }
+            storeBoxInRows(leaf.data() + kd_leaf::blockBound(n, 0, 0), b, k, box[k]);
         }
         for (uint32_t first = 0; first < b; first += kd_leaf::kLanes) {
             const uint32_t mask = meetsBlocks(leaf.data(), n, first, blockRay, tMax);

@@ -43,17 +43,6 @@ std::vector<Ray> incoherentRays(const Bounds3& bounds, int n) {
     return rays;
 }
 
-Bounds3 cellBox(const KdTopCells::Octant& octant, uint32_t cell) {
-    Bounds3 box;
-    for (int a = 0; a < 3; ++a) {
-        setComponent(box.lo, a,
-                     std::bit_cast<float>(octant.bounds[uint32_t(a) * octant.stride + cell]));
-        setComponent(box.hi, a,
-                     std::bit_cast<float>(octant.bounds[uint32_t(3 + a) * octant.stride + cell]));
-    }
-    return box;
-}
-
 bool contains(const Bounds3& outer, const Bounds3& inner) {
     for (int a = 0; a < 3; ++a)
         if (component(inner.lo, a) < component(outer.lo, a) ||
@@ -94,21 +83,14 @@ TEST(KdTopCells, HoldEveryLeafWithPrimitivesOnceInABoxAroundItsBlocks) {
             EXPECT_GE(octant.stride, octant.count);
             size_t leaves = 0;
             for (uint32_t c = 0; c < octant.count; ++c) {
-                const Bounds3 box = cellBox(octant, c);
+                const Bounds3 box = loadBoxInRows(octant.bounds.data(), octant.stride, c);
                 forEachLeaf(nodes, octant.roots[c], [&](const Node& leaf) {
                     const uint32_t n = leaf.primCount();
                     leaves += n > 0;
                     for (uint32_t b = 0; b < kd_leaf::blocks(n); ++b) {
-                        Bounds3 block;
-                        for (int s = 0; s < 2; ++s) {
-                            Vec3 p;
-                            for (int a = 0; a < 3; ++a)
-                                setComponent(
-                                    p, a,
-                                    std::bit_cast<float>(
-                                        data[leaf.leafOffset + kd_leaf::blockBound(n, s, a) + b]));
-                            block.extend(p);
-                        }
+                        const Bounds3 block =
+                            loadBoxInRows(data + leaf.leafOffset + kd_leaf::blockBound(n, 0, 0),
+                                          kd_leaf::blocks(n), b);
                         EXPECT_TRUE(contains(box, block)) << "cell " << c << ", block " << b;
                     }
                 });
@@ -138,7 +120,9 @@ TEST(KdTopCells, ComeFrontToBackInTheirOctantsOrder) {
         int met = 0;
         for (uint32_t c = 0; c < octant.count; ++c) {
             float t0 = 0.0f, t1 = kInfinity;
-            if (!clipToBox(cellBox(octant, c), ray.o, invDir, negative, t0, t1)) continue;
+            if (!clipToBox(loadBoxInRows(octant.bounds.data(), octant.stride, c), ray.o, invDir,
+                           negative, t0, t1))
+                continue;
             ASSERT_GE(t0, previous * (1.0f - kRayBoxSlack)) << "cell " << c;
             previous = t0;
             ++met;
