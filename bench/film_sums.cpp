@@ -1,7 +1,7 @@
 // What exact pass sums cost (renderer/film/exact_sum.h): adding passes to the film and merging
-// films, against the double sums the film kept before (sum += v, sumSq += v * v), on the same pass
-// images, beside the time to render one such pass (cornell-spheres, path, 1 spp), so the cost is
-// seen as a share of a render. Runs are interleaved; medians are reported.
+// films, against plain double sums (sum += v, sumSq += v * v), on the same pass images, beside the
+// time to render one such pass (cornell-spheres, path, 1 spp), so the cost is seen as a share of a
+// render. Runs are interleaved; medians are reported.
 #include <algorithm>
 #include <iostream>
 #include <random>
@@ -48,7 +48,7 @@ std::vector<std::vector<Color>> passImages(const Options& o) {
     return out;
 }
 
-// The film's accumulation before exact sums: doubles, added in pass order.
+// The baseline exact sums are measured against: doubles, added in pass order.
 void addDoubles(const std::vector<Color>& pass, std::vector<double>& sum,
                 std::vector<double>& sumSq) {
     for (size_t p = 0; p < pass.size(); ++p)

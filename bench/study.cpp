@@ -51,7 +51,7 @@ std::vector<Config> allConfigs() {
         {"path-adaptive", {{"integrator", "path"}, {"spp_per_pass", 4}, {"adaptive", true}}},
         {"path-sobol-adaptive",
          {{"integrator", "path"}, {"spp_per_pass", 4}, {"sampler", "sobol"}, {"adaptive", true}}},
-        // The preview preset's settings before it took sobol_sequence (render/presets.cpp).
+        // The preview preset's settings with sobol for its sobol_sequence (render/presets.cpp).
         {"path-sobol-8-adaptive",
          {{"integrator", "path"}, {"spp_per_pass", 8}, {"sampler", "sobol"}, {"adaptive", true}}},
         // Caustics from a progressive caustic photon map (caustics = photon_map): `photons`

@@ -96,7 +96,7 @@ RenderService::RenderService(ServerConfig config) : config_(std::move(config)) {
     assets_ = std::make_unique<AssetService>(config_, *store_);
     http_ = makeHttpServer(config_);
     // No Nagle delay: a response goes out in more than one write (headers, body), and on a
-    // kept-alive connection the second waited for the client's delayed ACK, 40 ms a request.
+    // kept-alive connection the second would wait for the client's delayed ACK, 40 ms a request.
     // Set before bind(): accepted sockets inherit it from the listening one.
     http_->set_tcp_nodelay(true);
     // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second server on a

@@ -1,5 +1,5 @@
 // Ray-scene intersection. Implementations: "bruteforce" (the reference: every primitive, every
-// ray), later "kdtree" and "embree". Built once per render over a Geometry, then queried const.
+// ray), "kdtree" and "embree". Built once per render over a Geometry, then queried const.
 #pragma once
 
 #include <memory>

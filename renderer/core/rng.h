@@ -8,7 +8,8 @@
 
 namespace caustic {
 
-/// 64-bit mix of MurmurHash3's finaliser (Appleby), used to combine seed components.
+/// Stafford's Mix01 ("Better Bit Mixing", 2011; pbrt-v4's MixBits), a variant of MurmurHash3's
+/// 64-bit finaliser with better constants; combines seed components.
 inline uint64_t mixBits(uint64_t v) {
     v ^= v >> 31;
     v *= 0x7fb5d329728ea185ull;

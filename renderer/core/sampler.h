@@ -33,7 +33,7 @@ public:
     Sampler() = default;
 
     /// The numbers of sample `sample` (of `samplesPerPass`) of `pixel` in pass `pass`;
-    /// `samplesBefore`: the pixel's samples in the passes before (sobol_sequence's index).
+    /// `samplesBefore`: the pixel's samples in the preceding passes, sobol_sequence's index.
     static Sampler forSample(SamplerKind kind, uint64_t seed, uint64_t pass, uint64_t pixel,
                              uint32_t sample, uint32_t samplesPerPass, uint32_t samplesBefore) {
         Sampler s;

@@ -88,8 +88,8 @@ public:
     }
     /// Completes a primitive hit with the primitive index and the front-side unit normal, into
     /// `hit`: an accelerator passes the optional<Hit> it returns, so that the Hit is written in
-    /// place. Returned by value and then copied, it was written field by field and read back in
-    /// 16-byte loads, which waited for the stores (failed store-to-load forwards, perf annotate).
+    /// place. Returned by value and then copied, it would be written field by field and read back
+    /// in 16-byte loads, which wait for the stores (failed store-to-load forwards, perf annotate).
     void finish(uint32_t prim, const Ray& ray, const PrimHit& h, Hit& hit) const;
     /// The same Hit, returned: for tests and callers off the hot path.
     Hit finish(uint32_t prim, const Ray& ray, const PrimHit& h) const {

@@ -41,7 +41,7 @@ Color WhittedIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         if (b.depth >= maxDepth_) continue;
         SpecularLobe lobes[2];
         int count = m.specularLobes(wo, si.n, TransportMode::Radiance, lobes);
-        // Pushed in reverse, so the first lobe is followed first, as the recursion did.
+        // Pushed in reverse, so the first lobe is followed first, as a recursive trace would.
         for (int i = count - 1; i >= 0; --i)
             if (!isBlack(lobes[i].weight))
                 stack.push_back(

@@ -14,11 +14,11 @@ namespace {
 
 // Accelerator bytes: a fixed part plus a part per primitive. Not a bound: a kd-tree's size depends
 // on how many primitives straddle its splits, which no count tells. Measured (memoryBytes() after
-// a build, 2026-12-01): Embree 83-93 bytes a primitive on the bunny, teapot, spot and a
-// 1M-triangle grid, 3.9 KB for the 8 primitives of cornell-spheres. Our kd-tree (2026-12-04, its
-// leaves holding their triangles' vertices, 40 bytes a reference, costed in tests of eight): 68
-// bytes a primitive on the bunny (1.66 references a triangle), 76 on the teapot (1.86), 68 on the
-// 1M-triangle bunny of bench_accel_rays (1.66). The figures below hold them with a margin
+// a build): Embree 83-93 bytes a primitive on the bunny, teapot, spot and a 1M-triangle grid,
+// 3.9 KB for the 8 primitives of cornell-spheres. Our kd-tree (its leaves holding their triangles'
+// vertices, 40 bytes a reference, costed in tests of eight): 68 bytes a primitive on the bunny
+// (1.66 references a triangle), 76 on the teapot (1.86), 68 on the 1M-triangle bunny of
+// bench_accel_rays (1.66). The figures below hold them with a margin
 // (tests/renderer/render/memory_estimate_test.cpp); render() checks what it built.
 constexpr size_t kAccelFixedBytes = size_t(16) << 10;
 constexpr size_t kEmbreeBytesPerPrim = 128;

@@ -2,7 +2,7 @@
 
 namespace caustic {
 
-// From the study (docs/study/README.md, 96x96, every example scene, path tracing; 2026-12-05).
+// From the study (bench_study, docs/study/README.md: 96x96, every example scene, path tracing).
 // Preview's settings (adaptive sampling from an 8-pass pilot, 8 per pass) reached each scene's
 // target RMSE 1.43 to 3.27 times sooner than path with independent numbers: the fastest of all on
 // the bunny (photon maps, or sobol at 16 a pass, win on the others). But adaptive sampling starves
@@ -15,10 +15,10 @@ namespace caustic {
 // the same net as with sobol, so the passes' spread, and with it the reported error and the pass
 // at which the target stops a render, are about the same; but the passes fill each other's gaps,
 // so the image is truer than that spread says. Measured at 128x128, 2 seeds, against 4096-spp
-// references (bench/preset_stops.sh, 2026-12-05): on the bunny and cornell-box the true error at
-// the stop is 3 to 8% lower than with sobol at the same pass, on cornell-spheres (glass) from 2%
-// higher to 4% lower, within a pass; the reported error is then 1.01 to 1.10 times the true one,
-// an estimate on the safe side.
+// references (bench/preset_stops.sh): on the bunny and cornell-box the true error at the stop is
+// 3 to 8% lower than with sobol at the same pass, on cornell-spheres (glass) from 2% higher to 4%
+// lower, within a pass; the reported error is then 1.01 to 1.10 times the true one, an estimate on
+// the safe side.
 const std::vector<Preset>& presets() {
     static const std::vector<Preset> table = {
         {"draft",

@@ -31,7 +31,7 @@ bool reachedTargetError(const Film& film, double targetError);
 
 /// How the time limit treats a render.
 struct TimeLimitOptions {
-    /// Seconds the render ran before (earlier attempts of a resumed job): the limit counts them.
+    /// Seconds rendered by the earlier attempts of a resumed job: the limit counts them.
     double secondsBefore = 0;
     /// Whether a first pass still running at the limit is cut short too, so that the render ends
     /// with no pass (a service, whose jobs must end at their limit). Otherwise the first pass

@@ -1,5 +1,5 @@
-// The durable job queue and its lease protocol, one interface over SQLite (embedded default) and,
-// later, PostgreSQL (scale-out).
+// The durable job queue and its lease protocol, one interface over SQLite (embedded default) and
+// PostgreSQL (scale-out).
 //
 // Protocol (DESIGN.md, "Service"). A worker claims the oldest queued job with a lease: the store
 // sets it running, increments its `attempt` and records the owner and an expiry time. The holder

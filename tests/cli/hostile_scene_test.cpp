@@ -36,8 +36,8 @@ TEST_F(CliRender, SettingsNestedTooDeepAreRefusedWithTheirPath) {
                             ": nested deeper than 64 levels of arrays and objects\n");
 }
 
-// A --set value nested 50000 deep (an argument holds up to 128 KiB) overflowed the stack of a
-// sanitizer build when the settings were merged; it is now kept as text, which no setting takes.
+// A --set value nested 50000 deep (an argument holds up to 128 KiB) would overflow the stack of a
+// sanitizer build when the settings are merged; it is kept as text, which no setting takes.
 TEST_F(CliRender, SetValueNestedTooDeepIsText) {
     const int levels = 50000;
     auto dir = tempDir();

@@ -434,8 +434,8 @@ def test_uploads_over_max_uploads_in_flight_are_429(start_server):
     server = start_server("--threads", "2", "--max-uploads", "1")
     # Which of two uploads that come together gets the one place is up to the server's threads:
     # another try when a small one got it (1 try in 100 to 150 with three busy loops beside the
-    # test on two cores; the slow upload was then told 429, and the test had failed with "the slow
-    # upload never held its place").
+    # test on two cores; the slow upload is then told 429, and a single try would fail with "the
+    # slow upload never held its place").
     assert any(slow_upload_held_its_place(server, attempt) for attempt in range(3)), (
         "the slow upload was refused 3 times in a row:\n" + server.log())
     upload_ok(server, padded_obj(100, "after"))

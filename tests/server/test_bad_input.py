@@ -219,7 +219,7 @@ def test_post_without_a_body_needs_no_content_length(servers):
     # `curl -X POST .../cancel` (README) sends neither Content-Length nor a body: it has none.
     server = servers("main")
     with socket.create_connection(("127.0.0.1", server.port), timeout=30) as sock:
-        sock.settimeout(5)  # it was read until the connection closed, then 400 after 10 s
+        sock.settimeout(5)  # a server reading to the connection's close would answer 400 after 10 s
         sock.sendall(f"POST /api/jobs/{UNKNOWN_ID}/cancel HTTP/1.1\r\n"
                      "Host: 127.0.0.1\r\n\r\n".encode())
         response = http.client.HTTPResponse(sock)

@@ -18,12 +18,12 @@
 namespace caustic {
 
 /// Costs and limits of the SAH build. Costs are relative: only their ratio matters. The defaults
-/// were chosen with `bench_accel_rays --kdtree-variants` (bench/README.md, 2026-12-04 and
-/// 2026-12-05): a leaf culls its blocks of eight by their boxes, eight boxes at once, before it
-/// tests any triangle, so that a ray tests about one block of a leaf it enters and a block costs
-/// a thirtieth of a node visit (0.25 before the boxes; 0.06 and 0.015 were slower on some rows).
-/// pbrt-v3's costs (1.5 a primitive, empty bonus 0.3) gave the bunny 18 times the nodes of the
-/// 0.25 tree, built 3.4 times as slowly, and rays 1.09 to 1.41 times as slow.
+/// are chosen with `bench_accel_rays --kdtree-variants` (bench/README.md): a leaf culls its blocks
+/// of eight by their boxes, eight boxes at once, before it tests any triangle, so that a ray tests
+/// about one block of a leaf it enters and a block costs a thirtieth of a node visit (0.06 and
+/// 0.015 are slower on some rows). pbrt-v3's costs (1.5 a primitive, empty bonus 0.3) give the
+/// bunny 18 times the nodes of a tree costed at 0.25 a block, built 3.4 times as slowly, and rays
+/// 1.09 to 1.41 times as slow.
 struct KdTreeOptions {
     float traversalCost = 1.0f;   ///< Visiting an interior node.
     float intersectCost = 0.03f;  ///< Testing one block of leafBlock primitives.
@@ -33,9 +33,10 @@ struct KdTreeOptions {
     /// 1: every primitive costs one test (pbrt-v3).
     uint32_t leafBlock = kd_leaf::kLanes;
     float emptyBonus = 0.15f;  ///< Discount for splits that cut off empty space, in [0, 1).
-    /// 0: 6 + 1.3 log2(N), at most kMaxDepth. pbrt-v3's 8 + 1.3 log2(N) made trees 1.4 to 1.9
+    /// 0: 6 + 1.3 log2(N), at most kMaxDepth. pbrt-v3's 8 + 1.3 log2(N) makes trees 1.4 to 1.9
     /// times as large, 1.3 to 1.8 times as slow to build, for rays as fast within the machine's
-    /// noise (bunny, teapot, bunny-1m, primary and incoherent rays, 2026-12-03).
+    /// noise (`bench_accel_rays --kdtree-depths`: bunny, teapot, bunny-1m, primary and incoherent
+    /// rays).
     int maxDepth = 0;
     bool clipPrimitives = true;  ///< Clip straddling primitives to child boxes ("perfect splits").
     /// The depth of the top cells (top_cells.h), at most KdTopCells::kMaxDepth; 0: the whole tree

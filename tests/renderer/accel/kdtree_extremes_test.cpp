@@ -75,7 +75,7 @@ TEST(KdTreeExtremes, SphereReachingPastTheLargestFloat) {
 
 // Found by tests/fuzz/obj_fuzzer (minimized): a segment (a triangle of no area) on the x axis and a
 // triangle give a tree of an empty leaf and one-primitive leaves, so the leaves' index array is
-// empty, and the traversal took &primIndices_[0] of it on entering the empty leaf.
+// empty: entering the empty leaf must not take &primIndices_[0] of it.
 TEST(KdTreeExtremes, EmptyLeafBesideOnePrimitiveLeaves) {
     std::istringstream obj("v 0 0 0\nv 2 0 0\nv -1 0 0\nv -5 0 0\nv 0 7 9\nf 2 1 2\nf 3 4 5\n");
     TriangleMesh mesh = parseObj(obj, "empty-leaf.obj", MeshTransform{}, "/file");

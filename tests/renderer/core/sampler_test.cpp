@@ -1,7 +1,7 @@
 // The samplers: Sobol's generator matrices, Kensler's permutation, the (0, m, 2)-net property of
 // every dimension pair of the padded Owen-scrambled Sobol' sampler (of each pass, and for
 // sobol_sequence of every aligned run of passes), uniformity of scrambled points, their variance
-// against independent numbers, and that `independent` is the PCG32 stream of old.
+// against independent numbers, and that `independent` is each sample's PCG32 stream (core/rng.h).
 #include "core/sampler.h"
 
 #include <gtest/gtest.h>

@@ -90,8 +90,8 @@ TEST(Triangle, EdgeFunctionsThatUnderflowAreDecidedInDouble) {
 
 // Found by fuzz_obj: a ray in the plane of a triangle (to within rounding) through its vertex
 // (1, 0, 0), at t = 2.5. The projected triangle is a sliver, its edge functions are decided in
-// double, and t came from the plane, which such a ray meets anywhere: 1.53, outside the triangle
-// and its box, where the kd-tree never looked. t is now the blend of the vertices' depths.
+// double, and t from the plane, which such a ray meets anywhere, would be 1.53, outside the
+// triangle and its box, where the kd-tree never looks. t is the blend of the vertices' depths.
 TEST(Triangle, ARayInItsPlaneHitsInsideIt) {
     Geometry g;
     g.addTriangles({Vec3(0, 0, 0), Vec3(0, 1, 1e-4f), Vec3(1, 0, 0)}, {glm::uvec3(0, 1, 2)}, 0);
@@ -102,7 +102,7 @@ TEST(Triangle, ARayInItsPlaneHitsInsideIt) {
 }
 
 // Also found by fuzz_obj: a ray in the plane z = 0 through the vertex (0, 0, 0) of a triangle
-// tilted 1e-43 out of that plane, which straddles the ray's origin in depth. The plane's t was
+// tilted 1e-43 out of that plane, which straddles the ray's origin in depth. The plane's t is
 // 0.63, a point outside the triangle; a hit may only be at the vertex (t = 0.7071).
 TEST(Triangle, ARayInItsPlaneThroughAVertexHitsNowhereElse) {
     Geometry g;

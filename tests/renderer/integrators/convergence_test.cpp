@@ -15,9 +15,9 @@
 // of the Cornell box, 5.12 for the 3279 of the mirror scene). The standard errors are themselves
 // estimated from N = 128 passes per render: Student's t with about 2(N - 1) degrees of freedom has
 // 1.7 times the normal tail beyond such thresholds, and the naive estimator's skewed samples (rare
-// lamp hits) add a little more, so the real rate is a few times 1e-3. Measured when this test was
-// written, with other seeds: 65 runs of the Cornell comparison and 40 of the mirror scene, no
-// false alarm; largest |z| 4.40 and 4.92.
+// lamp hits) add a little more, so the real rate is a few times 1e-3. Measured with other seeds:
+// 65 runs of the Cornell comparison and 40 of the mirror scene, no false alarm; largest |z| 4.40
+// and 4.92.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -83,9 +83,10 @@ constexpr int kRungs[] = {8, 16, 32};  // passes of 4 samples
 
 // One render's error is dominated by its few noisiest pixels, so both the reported and the true
 // error of one render scatter by tens of percent from seed to seed (measured: 0.64 to 1.71 for the
-// cornell box, when the lamp's edges were its noisiest pixels). The check is on their expectation:
-// the ratio of their RMS over 4 seeds (8 where rare paths carry the error). The reference has 64
-// times the samples of the checked renders at their end, so its noise is a small correction.
+// cornell box with emission_samples 0, whose noisiest pixels are then the lamp's edges). The check
+// is on their expectation: the ratio of their RMS over 4 seeds (8 where rare paths carry the
+// error). The reference has 64 times the samples of the checked renders at their end, so its noise
+// is a small correction.
 TEST_P(ErrorTrust, ReportedErrorTracksTheTrueErrorAndIntervalsCoverTheReference) {
     auto scene = sceneFromJson(exampleScene(GetParam(), kSize, kSize));
     RenderResult ref =

@@ -4,11 +4,10 @@
 // its RMS error against a path-traced reference must fall from checkpoint to checkpoint and end
 // below a stated threshold.
 //
-// ppm (issue 5, acceptance 3), measured when the test was written (seeds 2, 3 and 4): relative
-// RMSE 0.26-0.28 after 4 passes, 0.11-0.14 after 16, 0.040-0.070 after 64 and 0.024-0.033 after
-// 256, against a reference whose own noise is 0.7% RMS. Most of what is left at 256 passes is the
-// pixel-footprint noise of a few pixels on the lamp's edges (emission 18 beside a white ceiling),
-// whose variance falls as 1/n.
+// ppm (issue 5, acceptance 3), measured with seeds 2, 3 and 4: relative RMSE 0.26-0.28 after 4
+// passes, 0.11-0.14 after 16, 0.040-0.070 after 64 and 0.024-0.033 after 256, against a reference
+// whose own noise is 0.7% RMS. Most of what is left at 256 passes is the pixel-footprint noise of a
+// few pixels on the lamp's edges (emission 18 beside a white ceiling), whose variance falls as 1/n.
 //
 // Path tracing with photon-mapped caustics (issue 17): where the scene's error is its caustics (the
 // glass and mirror spheres, whose small lamp seen through them makes fireflies) it also has less

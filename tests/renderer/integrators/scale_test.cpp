@@ -39,7 +39,7 @@ struct Similarity {
 // in double before rounding to float, so a translation costs no precision: without that, a float
 // at 1e5 holds positions to 0.008 (a unit box is 256 float steps wide), the hit-point error bound
 // there (gamma(7) sum |b_i p_i|, pbrt-v4 6.8.5) is 0.042, and the spawned-ray offset erases the
-// mirror sphere's contact shadow (measured before the change: z = 6.5 at pixel (8, 36)).
+// mirror sphere's contact shadow (measured without it: z = 6.5 at pixel (8, 36)).
 constexpr Similarity kTransforms[] = {
     {"Small", 1e-3, 0.0}, {"Large", 1e3, 0.0},   {"Tiny", 1e-4, 0.0},     {"Huge", 1e4, 0.0},
     {"Far", 1.0, 1e4},    {"Farther", 1.0, 1e5}, {"SmallFar", 1e-3, 1e5}, {"LargeFar", 1e3, 1e5},

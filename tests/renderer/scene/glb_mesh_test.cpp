@@ -285,8 +285,8 @@ TEST(MeshFileGlb, NodeHierarchyIsChecked) {
 
 TEST(MeshFileGlb, WhatTheReaderThrowsIsAnError) {
     // tinygltf reads some arrays with at(): this file's buffer declares 0 bytes and has views into
-    // it, which threw std::out_of_range through the loader (a fuzzing finding, kept in
-    // tests/fuzz/mesh/empty-buffer-with-views.chunks; with the buffer's true length it reads,
+    // it, so tinygltf throws std::out_of_range, which the loader reports (a fuzzing finding, kept
+    // in tests/fuzz/mesh/empty-buffer-with-views.chunks; with the buffer's true length it reads,
     // and the missing node is reported instead).
     const std::string json = R"({"accessors":[{"bufferView":0,"componentType":5126,"count":4,)"
                              R"("max":[1,1,0],"min":[0,0,0],"type":"VEC3"},{"bufferView":1,)"
