@@ -12,6 +12,7 @@
 #include "film/image_io.h"
 #include "progress_bar.h"
 #include "render/renderer.h"
+#include "render/resolution.h"
 #include "render/settings.h"
 #include "scene/scene.h"
 
@@ -61,6 +62,7 @@ int runRender(const RenderOptions& options) {
         sceneOptions.assetsDir = fs::path(options.assets);
         scene = loadScene(readJsonFile(scenePath), sceneOptions);
         settings = parseSettings(mergeSettings(scene->settings, options.overrides));
+        applyResolution(*scene, settings, sceneOptions);
     } catch (const InputError& e) {
         std::cerr << "caustic: error: " << scenePath.string() << ": " << e.what() << "\n";
         return 2;

@@ -45,7 +45,8 @@ void addStoreOptions(CLI::App& app, server::ServerConfig& c, bool required) {
             ""));
     CLI::App& farm = *app.add_option_group("Scale-out (with --store postgresql://)");
     addNumber(farm, "--store-wait", c.storeWaitSeconds, 0, 3600,
-              "Seconds a start waits for a PostgreSQL store that does not answer yet");
+              "Seconds a start waits for a PostgreSQL store that does not answer yet")
+        ->envname("CAUSTIC_STORE_WAIT");
     addNumber(farm, "--task-passes", c.taskPasses, 1, 1 << 20,
               "Passes per task of a job that sets no task_passes: a job's passes are rendered "
               "in tasks this size, merged exactly");

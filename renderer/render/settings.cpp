@@ -11,11 +11,15 @@
 
 namespace caustic {
 
+const char* toString(SettingType type) {
+    static const char* names[] = {"integer", "number", "boolean", "string"};
+    return names[static_cast<int>(type)];
+}
+
 Json settingsSchemaJson() {
-    static const char* typeNames[] = {"integer", "number", "boolean", "string"};
     Json out = Json::object();
     for (const SettingSpec& s : settingSpecs()) {
-        Json j{{"type", typeNames[static_cast<int>(s.type)]},
+        Json j{{"type", toString(s.type)},
                {"default", s.defaultValue},
                {"description", s.description}};
         if (s.type == SettingType::Integer || s.type == SettingType::Number) {
@@ -170,8 +174,8 @@ bool RenderSettings::reads(const SettingSpec& spec) const {
 
 Json parseSettingValue(const std::string& text) {
     // Text nested deeper than a scene may be stays a string, which no setting takes: merging the
-    // settings copies values recursively, and 40000 levels (an argument holds 65000) overflowed
-    // the stack of a sanitizer build (issue 12, bug 3).
+    // settings copies values recursively, and tens of thousands of levels (an argument holds
+    // 65000) overflow the stack of a sanitizer build.
     std::optional<Json> v = tryParseJson(text);
     return v ? std::move(*v) : Json(text);
 }

@@ -35,11 +35,14 @@ struct RenderSettings : TraceSettings {
     /// Camera rays per sample for the emission seen directly (render/seen_emission.h); 0: the
     /// sample's own ray.
     int emissionSamples = 8;
-    std::string accelerator = "embree";  // the fastest of the three today
+    std::string accelerator = "embree";  // the fastest of the three (bench/README.md)
     double memoryLimit = 0;              ///< MiB; 0 for half the machine's physical memory.
     double exposure = 0;                 ///< Stops (powers of two) applied to PNG output.
-    PathIntegrator::Settings path;       ///< What `path` reads besides TraceSettings.
-    PhotonIntegrator::Settings photon;   ///< What `photon` and `ppm` read besides TraceSettings.
+    /// The image's size in pixels over the scene camera's; 0 keeps the camera's (see
+    /// render/resolution.h, which also resolves them to the size rendered).
+    int width = 0, height = 0;
+    PathIntegrator::Settings path;      ///< What `path` reads besides TraceSettings.
+    PhotonIntegrator::Settings photon;  ///< What `photon` and `ppm` read besides TraceSettings.
 
     /// Samples per pass after resolving 0: the largest divisor of spp no greater than spp / 64, so
     /// that a render has about 64 equal passes (every pass when spp < 64).
@@ -54,6 +57,8 @@ struct RenderSettings : TraceSettings {
 };
 
 enum class SettingType { Integer, Number, Boolean, String };
+/// "integer", "number", "boolean" or "string": the JSON Schema type.
+const char* toString(SettingType type);
 
 /// Binds a setting to its RenderSettings field (made by the table's `field`). `choices` are the
 /// row's: an enum field is stored as the index of its name in them.

@@ -316,6 +316,21 @@ std::vector<SettingSpec> rows() {
          .min = 0,
          .max = 1024,
          .description = "Worker threads; 0 uses every core. The image does not depend on it."},
+        {.name = "width",
+         .field = field(&R::width),
+         .min = 0,
+         .max = 16384,
+         .unit = "pixels",
+         .description = "Image width, over the scene camera's. 0 keeps the camera's, or, when "
+                        "only height is given, follows the camera's aspect ratio. The vertical "
+                        "field of view stays the camera's."},
+        {.name = "height",
+         .field = field(&R::height),
+         .min = 0,
+         .max = 16384,
+         .unit = "pixels",
+         .description = "Image height, over the scene camera's. 0 keeps the camera's, or, when "
+                        "only width is given, follows the camera's aspect ratio."},
         {.name = "exposure",
          .field = field(&R::exposure),
          .min = -20,

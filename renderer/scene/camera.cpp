@@ -12,4 +12,12 @@ Camera::Camera(const Vec3& position, const Vec3& lookAt, const Vec3& up, float f
     tanHalfX_ = tanHalfY_ * static_cast<float>(width) / static_cast<float>(height);
 }
 
+Camera Camera::resized(int width, int height) const {
+    Camera c = *this;
+    c.width_ = width;
+    c.height_ = height;
+    c.tanHalfX_ = tanHalfY_ * static_cast<float>(width) / static_cast<float>(height);
+    return c;
+}
+
 }  // namespace caustic

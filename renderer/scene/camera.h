@@ -32,6 +32,10 @@ public:
         return true;
     }
 
+    /// The same camera with another image size: the vertical field of view is kept, the
+    /// horizontal one follows the new aspect ratio. Requires width, height >= 1.
+    Camera resized(int width, int height) const;
+
     int width() const { return width_; }
     int height() const { return height_; }
     const Vec3& position() const { return position_; }

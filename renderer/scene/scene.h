@@ -87,6 +87,11 @@ struct SceneOptions {
 /// JSON path of the first problem.
 std::unique_ptr<Scene> loadScene(const nlohmann::json& doc, const SceneOptions& options);
 
+/// Throws InputError at widthPath or heightPath unless each side is in [1, maxResolution] and
+/// the image has at most maxPixels pixels (`options`' limits).
+void checkResolution(int64_t width, int64_t height, const SceneOptions& options,
+                     const std::string& widthPath, const std::string& heightPath);
+
 /// Reads and parses a JSON file; InputError with the line and column of a syntax error.
 nlohmann::json readJsonFile(const std::filesystem::path& file);
 /// Parses JSON text; InputError with the line and column of a syntax error.

@@ -65,14 +65,7 @@ Camera readCamera(const Json& j, const SceneOptions& options, Frame& frame) {
     o.finish();
     if (!(fov > 0.0f && fov < 180.0f))
         throw InputError(o.pathOf("fov"), "must be in (0, 180) degrees");
-    for (auto [key, v] : {std::pair{"width", width}, std::pair{"height", height}})
-        if (v < 1 || v > options.maxResolution)
-            throw InputError(o.pathOf(key), "must be in [1, " +
-                                                std::to_string(options.maxResolution) + "], got " +
-                                                std::to_string(v));
-    if (width * height > options.maxPixels)
-        throw InputError(o.pathOf("width"), "width x height must be at most " +
-                                                std::to_string(options.maxPixels) + " pixels");
+    checkResolution(width, height, options, o.pathOf("width"), o.pathOf("height"));
     Vec3 forward = lookAt - position;
     if (glm::dot(forward, forward) == 0.0f)
         throw InputError(o.pathOf("look_at"), "must differ from position");
@@ -235,6 +228,17 @@ const Json& requireArray(JsonObject& o, const std::string& key) {
 }
 
 }  // namespace
+
+void checkResolution(int64_t width, int64_t height, const SceneOptions& options,
+                     const std::string& widthPath, const std::string& heightPath) {
+    for (auto [path, v] : {std::pair{&widthPath, width}, std::pair{&heightPath, height}})
+        if (v < 1 || v > options.maxResolution)
+            throw InputError(*path, "must be in [1, " + std::to_string(options.maxResolution) +
+                                        "], got " + std::to_string(v));
+    if (width * height > options.maxPixels)
+        throw InputError(widthPath, "width x height must be at most " +
+                                        std::to_string(options.maxPixels) + " pixels");
+}
 
 std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
     // Before anything copies a part of it (the settings; issue 12, bug 3).

@@ -12,6 +12,7 @@
 #include "jobs/clock.h"
 #include "jobs/lease_keeper.h"
 #include "render/render_session.h"
+#include "render/resolution.h"
 #include "scene/scene.h"
 #include "store/pass_images.h"
 #include "store/store_unavailable.h"
@@ -151,6 +152,7 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
             options.resolveMeshAsset = storedAssets(store_);
             cache.scene = loadScene(job.scene, options);
             cache.settings = parseSettings(job.settings);
+            applyResolution(*cache.scene, cache.settings, options);
             if (config_.renderThreads > 0) cache.settings.threads = config_.renderThreads;
             Interrupt setup(&lease.cancel);
             cache.session = std::make_unique<RenderSession>(*cache.scene, cache.settings, &setup);

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "film/exact_sum.h"
 #include "render/memory_estimate.h"
+#include "render/resolution.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 
@@ -120,6 +121,7 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
     if (!asked.is_object())
         throw InputError("/settings", "expected an object, got " + jsonTypeName(asked));
     RenderSettings settings = parseSettings(mergeSettings(scene->settings, asked), "/settings");
+    applyResolution(*scene, settings, options);
 
     // The service's limits.
     Json s = settings.toJson();

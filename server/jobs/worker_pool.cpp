@@ -9,6 +9,7 @@
 #include "jobs/asset_service.h"
 #include "jobs/pass_recorder.h"
 #include "render/renderer.h"
+#include "render/resolution.h"
 #include "scene/scene.h"
 #include "store/storage_full.h"
 
@@ -106,6 +107,7 @@ void WorkerPool::renderJob(const Job& job) {
 WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease) {
     Outcome outcome;
     RenderSettings settings;
+    const auto started = Interrupt::Clock::now();
     try {
         // The scene, settings and session are made once per attempt.
         SceneOptions options;
@@ -113,6 +115,7 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
         options.resolveMeshAsset = storedAssets(store_);
         std::unique_ptr<Scene> scene = loadScene(job.scene, options);
         settings = parseSettings(job.settings);
+        applyResolution(*scene, settings, options);
         // The memory check's pilot stops at a cancel and at the time limit, as passes do.
         Interrupt setup(&lease.cancel);
         if (settings.timeLimit > 0)
@@ -129,7 +132,6 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
         counters_.rays += stats.rays;
         counters_.renderSeconds.fetch_add(stats.renderSeconds);
         counters_.lastRaysPerSecond = stats.raysPerSecond;
-        outcome.stats = stats.toJson();
         if (stats.stopReason == StopReason::TimeLimit && film->passes() == 0) {
             outcome.error = timeLimitError(settings);
         } else if (stats.stopReason == StopReason::Cancelled) {
@@ -141,6 +143,9 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
             files_.writeImage(job.id, job.attempt, "preview.png", *film, settings.exposure);
             outcome.state = JobState::Succeeded;
         }
+        // This attempt's wall time: loading, setup, the passes and the images.
+        stats.totalSeconds = secondsSince(started);
+        outcome.stats = stats.toJson();
     } catch (const RenderCancelled&) {
         // Before the first pass: cancelled, or out of time in the memory check's pilot.
         if (lease.cancel) {

@@ -3,8 +3,10 @@
 
 #include <filesystem>
 #include <string>
+#include <tuple>
 
 #include "cli/cli_run.h"
+#include "film/image_io.h"
 
 namespace {
 
@@ -26,6 +28,31 @@ TEST_F(CliRender, WritesPngAndExrAndASummaryLine) {
     EXPECT_TRUE(fs::exists(dir / "a.exr"));
     EXPECT_NE(r.output.find("raycast, 16x12, 4 spp"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("rays/s"), std::string::npos) << r.output;
+}
+
+// The tiny scene's camera is 16 x 12: --width and --height override it, and one of them alone
+// keeps its aspect ratio.
+TEST_F(CliRender, WidthAndHeightOverrideTheCamera) {
+    fs::path dir = tempDir();
+    writeFile(dir / "tiny.json", kTinyScene);
+    const std::string render = "render " + (dir / "tiny.json").string() + " --spp 1 -o ";
+    for (auto [options, width, height] :
+         {std::tuple{"--width 32", 32, 24}, std::tuple{"--height 6", 8, 6},
+          std::tuple{"--width 20 --height 10", 20, 10}, std::tuple{"--set width=40", 40, 30}}) {
+        fs::path out = dir / "sized.exr";
+        CliRun r = runCli(render + out.string() + " " + options);
+        ASSERT_EQ(r.exitCode, 0) << options << "\n" << r.output;
+        caustic::RgbImage image = caustic::readImage(out);
+        EXPECT_EQ(image.width, width) << options;
+        EXPECT_EQ(image.height, height) << options;
+        EXPECT_NE(r.output.find(std::to_string(width) + "x" + std::to_string(height)),
+                  std::string::npos)
+            << r.output;
+    }
+    CliRun r = runCli(render + (dir / "big.png").string() + " --width 20000");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("/settings/width: must be in [0, 16384], got 20000"), std::string::npos)
+        << r.output;
 }
 
 TEST_F(CliRender, BadSceneIsOneLineAndExitCodeTwo) {

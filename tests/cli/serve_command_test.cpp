@@ -2,6 +2,7 @@
 // the flag named), --help states every default and range, and usage of the program as a whole.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "cli/cli_run.h"
@@ -77,6 +78,18 @@ TEST(WorkerCommand, NeedsAPostgresStoreAndAWorker) {
     r = runCli("worker --store postgresql://127.0.0.1:1/x --workers 0");
     EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_EQ(r.output.rfind("caustic worker: --workers: must be a ", 0), 0) << r.output;
+}
+
+// How long a start waits for PostgreSQL comes from CAUSTIC_STORE_WAIT too (the compose projects
+// set it), checked as the flag is.
+TEST(WorkerCommand, StoreWaitFromTheEnvironment) {
+    EXPECT_NE(runCli("worker --help").output.find("(Env:CAUSTIC_STORE_WAIT)"), std::string::npos);
+    setenv("CAUSTIC_STORE_WAIT", "4000", 1);
+    CliRun r = runCli("worker --store postgresql://127.0.0.1:1/x");
+    unsetenv("CAUSTIC_STORE_WAIT");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("caustic worker: --store-wait: must be a number in [0, 3600]", 0), 0)
+        << r.output;
 }
 
 TEST(CausticCommand, VersionHelpAndUsage) {

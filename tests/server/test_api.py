@@ -11,6 +11,8 @@ import re
 import subprocess
 import tempfile
 
+import pytest
+
 from conftest import (ID, ROOT, TINY_SCENE, assert_problem, exr_info, png_info, run_to_end,
                       sse_events, submit_ok, tiny_job, tiny_scene)
 
@@ -161,6 +163,8 @@ def test_submit_example_scene_by_name(server):
     assert end["state"] == "succeeded", end
     assert end["progress"] == 1 and end["passes_done"] == end["passes_total"] == 1
     assert end["stats"]["spp"] == 1 and end["stats"]["rays"] > 0
+    # The job's wall time: loading, setup, the pass and the images.
+    assert end["stats"]["total_seconds"] >= end["stats"]["render_seconds"] > 0
     assert end["links"]["image_png"] == f"/api/jobs/{job['id']}/image.png"
     assert "cancel" not in end["links"]
 
@@ -173,6 +177,30 @@ def test_submit_example_scene_by_name(server):
     width, height, channels = exr_info(exr.content)
     assert (width, height) == (512, 512)
     assert {"R", "G", "B"} <= set(channels)
+    assert (job["settings"]["width"], job["settings"]["height"]) == (512, 512)
+
+
+@pytest.mark.parametrize("asked, size", [({"width": 48}, (48, 48)),
+                                         ({"height": 40}, (40, 40)),
+                                         ({"width": 64, "height": 32}, (64, 32))])
+def test_settings_resolution_overrides_the_camera(server, asked, size):
+    # cornell-box's camera is 512 x 512: one side given keeps its aspect ratio.
+    job = submit_ok(server, {"scene": "cornell-box", "settings": {"spp": 1, **asked}})
+    assert (job["settings"]["width"], job["settings"]["height"]) == size
+    end = run_to_end(server, job["id"])
+    assert end["state"] == "succeeded", end
+    assert png_info(server.get(end["links"]["image_png"]).content) == size
+    assert exr_info(server.get(end["links"]["image_exr"]).content)[:2] == size
+
+
+def test_settings_resolution_is_held_to_the_service_limits(server):
+    # Each side at most --max-resolution (4096), the image at most --max-pixels (2048 x 2048).
+    r = server.submit({"scene": "cornell-box", "settings": {"height": 5000}})
+    assert_problem(r, 422, "/settings/height", "4096")
+    r = server.submit({"scene": "cornell-box", "settings": {"width": 4096}})
+    assert_problem(r, 422, "/settings/width", "pixels")
+    r = server.submit({"scene": "cornell-box", "settings": {"width": -1}})
+    assert_problem(r, 422, "/settings/width")
 
 
 def test_submit_scene_object(server):

@@ -203,6 +203,16 @@ test('submit a job: live progress, the preview, then the final image with its st
   assert.equal(stats.spp, '400');
   assert.match(stats.rays_per_second, /rays\/s/);
   assert.equal(stats.photons, undefined, 'no photon count for a path tracer');
+  // The time shown, in the stats and on the queue card, is the job's wall time: loading, setup,
+  // passes and images, so at least its render time.
+  const done = await (await fetch(`${BASE}/api/jobs/${job.id}`)).json();
+  assert.ok(done.stats.render_seconds > 0 && done.stats.total_seconds >= done.stats.render_seconds,
+    JSON.stringify(done.stats));
+  const total = await page.evaluate(async t => (await import('/js/format.js')).seconds(t),
+    done.stats.total_seconds);
+  assert.ok(stats.time.startsWith(`${total} (`), `${stats.time}, expected ${total}`);
+  const card = await page.textContent(`${itemOf(job.id)} .job-meta`);
+  assert.ok(card.endsWith(` · ${total}`), `${card}, expected ${total}`);
   await shot(page, 'result');
 
   // Exposure: +1 EV doubles linear values (decode sRGB, scale, encode).

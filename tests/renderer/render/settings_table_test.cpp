@@ -174,6 +174,8 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
                      {"memory_limit", 512.5},
                      {"seed", 12345678901},
                      {"threads", 11},
+                     {"width", 320},
+                     {"height", 200},
                      {"exposure", -1.5}};
     RenderSettings s = parseSettings(asked);
     EXPECT_EQ(s.integrator, "ppm");
@@ -205,6 +207,8 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
     EXPECT_EQ(s.memoryLimit, 512.5);
     EXPECT_EQ(s.seed, 12345678901u);
     EXPECT_EQ(s.threads, 11);
+    EXPECT_EQ(s.width, 320);
+    EXPECT_EQ(s.height, 200);
     EXPECT_EQ(s.exposure, -1.5);
     EXPECT_EQ(parseSettings(Json{{"kernel", "box"}}).photon.kernel, PhotonKernel::Box);
     // Read back, for the integrators that list them.
