@@ -5,9 +5,9 @@
 
 #include "command_line.h"
 #include "health_command.h"
-#include "render/settings.h"
 #include "render_command.h"
 #include "serve_command.h"
+#include "settings_command.h"
 #include "worker_command.h"
 
 int main(int argc, char** argv) {
@@ -23,8 +23,8 @@ int main(int argc, char** argv) {
     CLI::App* worker = caustic::addWorkerCommand(app, workerConfig);
     caustic::HealthOptions healthOptions;
     CLI::App* health = caustic::addHealthCommand(app, healthOptions);
-    CLI::App* settings = app.add_subcommand(
-        "settings", "Prints every render setting as JSON: type, default, range, unit, meaning.");
+    caustic::SettingsOptions settingsOptions;
+    CLI::App* settings = caustic::addSettingsCommand(app, settingsOptions);
 
     if (int exitCode = caustic::cli::parseCommandLine(app, argc, argv); exitCode >= 0)
         return exitCode;
@@ -32,10 +32,7 @@ int main(int argc, char** argv) {
     if (*serve) return caustic::runServe(serveConfig);
     if (*worker) return caustic::runWorker(workerConfig);
     if (*health) return caustic::runHealth(healthOptions);
-    if (*settings) {
-        std::cout << caustic::settingsSchemaJson().dump(2) << "\n";
-        return 0;
-    }
+    if (*settings) return caustic::runSettings(settingsOptions);
     std::cerr << app.help();  // no command: a usage error
     return 2;
 }

@@ -32,9 +32,10 @@ if ! $build_only; then
         # The PostgreSQL server for the tests' throwaway clusters (tests/support/postgres.sh)
         postgresql
         # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a
-        # venv; wrk and curl: bench/status_latency.sh; openssl: the TLS tests' certificates)
+        # venv; wrk and curl: bench/status_latency.sh; openssl: the TLS tests' certificates; curl
+        # and jq: the README's HTTP example, which tests/docs/quickstart_test.py runs)
         libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev python3 python3-venv wrk curl
-        openssl
+        jq openssl
         # Browser tests of the web page (tests/web/run.sh: playwright-core from npm drives Chromium)
         chromium nodejs npm
         # Sanitizers and fuzzing (cmake/sanitize.cmake): GCC's ASan and UBSan come with
