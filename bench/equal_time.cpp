@@ -32,10 +32,10 @@ using caustic::Vec3;
 
 const std::vector<std::string> kIntegrators = {"path", "photon", "ppm"};
 
-// The settings a user would pick for a time-limited render, before --set overrides (README.md lists
-// the others measured). Passes of 4 spp: short against the budget, so that the pass cut off at
-// the time limit wastes little; for photon and ppm, one photon tracing (about a second here) serves
-// 4 camera samples, which halves their error against 1 spp per pass.
+// The settings a user would pick for a time-limited render, before --set overrides (bench/README.md
+// lists the others measured). Passes of 4 spp: short against the budget, so that the pass cut off
+// at the time limit wastes little; for photon and ppm, one photon tracing (about a second here)
+// serves 4 camera samples, which halves their error against 1 spp per pass.
 Json defaultSettings(const std::string& integrator) {
     if (integrator == "path") return {{"spp_per_pass", 4}};
     if (integrator == "photon")

@@ -116,8 +116,8 @@ void addStorageOptions(CLI::App& serve, server::StoragePolicy& s) {
                    "under it); 0 checks only that writes succeed");
 }
 
-// Who may use the API from a web page, and what the service logs (README, "Security" and
-// "Operations").
+// Who may use the API from a web page, and what the service logs (docs/security.md and
+// docs/operations.md).
 void addBrowserAndLogOptions(CLI::App& serve, ServerConfig& c) {
     // An origin is a scheme, a host and a port, without a path (RFC 6454, section 4): what a
     // browser sends in Origin; "null" and "*" are no origin.

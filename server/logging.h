@@ -1,6 +1,6 @@
-// The service's logs, through spdlog (README, "Operations"): its messages (start, stop, warnings,
-// errors) go to stderr; the access log, one line per request (http/access_log.h), goes with them
-// or where --access-log says.
+// The service's logs, through spdlog (docs/operations.md, "Logs and the access log"): its messages
+// (start, stop, warnings, errors) go to stderr; the access log, one line per request
+// (http/access_log.h), goes with them or where --access-log says.
 #pragma once
 
 #include <string>

@@ -1,8 +1,8 @@
-// The access log (README, "Operations"): one line per request, whatever answered it (a route,
-// a guard, a static file, an error, an event stream once it ends), with the peer, method, path
-// (no query, no body), status, response bytes ("-" for a streamed body) and milliseconds from
-// routing to the end of the response ("-" for a request refused before routing, a malformed
-// one):
+// The access log (docs/operations.md, "Logs and the access log"): one line per request, whatever
+// answered it (a route, a guard, a static file, an error, an event stream once it ends), with the
+// peer, method, path (no query, no body), status, response bytes ("-" for a streamed body) and
+// milliseconds from routing to the end of the response ("-" for a request refused before routing, a
+// malformed one):
 //   2026-12-01 20:40:00.123 access 127.0.0.1:50312 GET /api/jobs 200 1234 0.4 ms
 #pragma once
 

@@ -1,4 +1,4 @@
-// The rules against other web sites (README, "Security"): a page on any site the user visits can
+// The rules against other web sites (docs/security.md): a page on any site the user visits can
 // make the browser send requests to 127.0.0.1:8080, and DNS rebinding can make a name of the
 // attacker's resolve to 127.0.0.1, so that the browser takes the service for that site's own.
 // These checks refuse what a browser sends on behalf of another site: a Host that is not a

@@ -158,10 +158,10 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
         outcome.error = e.what();
     } catch (const StorageFull& e) {
         // A full disk fails the job rather than holding a worker for as long as it stays full
-        // (README, "A full disk"). The write that failed left nothing behind (a temporary file
-        // and a rename; a rolled-back transaction); the job's other files go too, which frees
-        // their space for the store to record the failure. Not when the lease is lost: the files
-        // are then another attempt's.
+        // (docs/operations.md, "A full disk"). The write that failed left nothing behind (a
+        // temporary file and a rename; a rolled-back transaction); the job's other files go too,
+        // which frees their space for the store to record the failure. Not when the lease is lost:
+        // the files are then another attempt's.
         if (!lease.lost) files_.remove(job.id);
         outcome.error = std::string(e.what()) + "; free space and submit the job again";
     } catch (const std::exception& e) {

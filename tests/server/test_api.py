@@ -1,4 +1,4 @@
-"""Integration tests of the HTTP API (README.md, "The render service"; DESIGN.md, "Service") against
+"""Integration tests of the HTTP API (docs/http-api.md; DESIGN.md, "Service") against
 the real `caustic serve`: the read-only resources (/healthz, /api/openapi.json, /api/scenes and
 /api/scenes/{name}, /api/settings, /metrics), submitting by example name and as a scene object,
 Server-Sent Events to the end, the images, validation errors, and listing with paging and the state

@@ -216,7 +216,7 @@ def test_refused_body_does_not_spoil_the_connection(servers):
 
 
 def test_post_without_a_body_needs_no_content_length(servers):
-    # `curl -X POST .../cancel` (README) sends neither Content-Length nor a body: it has none.
+    # `curl -X POST .../cancel` (docs/http-api.md) sends neither Content-Length nor a body: it has none.
     server = servers("main")
     with socket.create_connection(("127.0.0.1", server.port), timeout=30) as sock:
         sock.settimeout(5)  # a server reading to the connection's close would answer 400 after 10 s

@@ -1,4 +1,4 @@
-"""The rules against other web sites (README, "Security"), against the real `caustic serve`: a page
+"""The rules against other web sites (docs/security.md), against the real `caustic serve`: a page
 on any site the user visits can make the browser send requests to 127.0.0.1, "simple" requests
 (a text/plain body, a form) need no preflight, and DNS rebinding makes a foreign name resolve to
 127.0.0.1. Each refusal is checked by its status and problem detail, and by what it did not do

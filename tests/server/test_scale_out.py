@@ -1,4 +1,4 @@
-"""Scale-out on PostgreSQL (README "Scale-out"; server/store/task.h): one API process and worker
+"""Scale-out on PostgreSQL (docs/scale-out.md; server/store/task.h): one API process and worker
 processes render split jobs whose images are bit-identical to a single SQLite process's; jobs are
 claimed by priority, workers are listed, a failing worker is blocked from a job, a cancelled job is
 re-queued with the passes it has, and event streams follow what the workers render.

@@ -1,4 +1,4 @@
-"""Several API processes on one PostgreSQL store (README "Scale-out"): a job submitted to one is
+"""Several API processes on one PostgreSQL store (docs/scale-out.md): a job submitted to one is
 seen, followed and served by another; `serve --store ... --workers N` renders tasks itself; the
 connection string's password is never printed."""
 

@@ -1,4 +1,4 @@
-"""The scale-out API that README "Scale-out" describes: what /metrics tells a scaler of worker
+"""The scale-out API that docs/scale-out.md describes: what /metrics tells a scaler of worker
 processes (caustic_queued_tasks, expired leases included; caustic_workers), and re-queueing a
 failed job (POST /api/jobs/{id}/requeue)."""
 

@@ -1,4 +1,4 @@
-// Browser tests of the rules against other web sites (README, "Security"), in Chromium against the
+// Browser tests of the rules against other web sites (docs/security.md), in Chromium against the
 // real `caustic serve` that tests/web/run.sh starts. A page served from another origin (a static
 // server on another loopback port, started here) tries what any web site the user visits could:
 // a no-cors fetch of a JSON text typed text/plain, forms that post themselves (text/plain,
