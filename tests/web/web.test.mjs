@@ -132,17 +132,22 @@ test('presets: choosing one fills in what it sets; fields stay editable and win;
   assert.equal(await page.inputValue('#s-sampler'), schema.sampler.default);
 
   // The draft, on a small image, with one field changed by hand: the job has the preset's settings
-  // but that one.
+  // but that one. The image size group's width alone widens the 16 x 16 camera to 24 x 24.
   await smallScene(page, 16);
   await page.selectOption('#s-preset', 'draft');
   await page.fill('#s-spp', '8');
+  assert.equal(await page.inputValue('[data-group=image] #s-width'), '0');
+  await page.fill('#s-width', '24');
   const {status, body: job} = await submit(page);
   assert.equal(status, 202);
   assert.equal(job.settings.preset, 'draft');
   assert.equal(job.settings.spp, 8);
+  assert.deepEqual([job.settings.width, job.settings.height], [24, 24]);
   for (const [key, value] of Object.entries(presets.draft.settings))
     if (key !== 'spp') assert.equal(job.settings[key], value, `the job's ${key}`);
   await page.waitForSelector(`${itemOf(job.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
+  const png = new DataView(await (await fetch(`${BASE}/api/jobs/${job.id}/image.png`)).arrayBuffer());
+  assert.deepEqual([png.getUint32(16), png.getUint32(20)], [24, 24], 'the PNG\'s IHDR size');
   await close();
 });
 

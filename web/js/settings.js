@@ -2,13 +2,14 @@
 // in what it sets, from the API's `presets`; the fields stay editable), the integrator, then only
 // the options it reads (a setting's `integrators`, empty = every integrator, and its `only_with`:
 // path shows its photon maps' settings only with caustics or indirect = photon_map), the stopping rule, the
-// accelerator, and the rest. Number inputs carry the API's minimum, maximum and step, enums are
+// image size, the accelerator, and the rest. Number inputs carry the API's minimum, maximum and step, enums are
 // selects, booleans checkboxes, and every field starts at the API's default.
 import {h} from './format.js';
 
 // Where a setting goes; a setting the API adds later lands in "More settings" (or, when only some
 // integrators read it, in the integrator's options), so the form always shows all of them.
 const STOP = ['spp', 'time_limit', 'target_error', 'spp_per_pass'];
+const IMAGE = ['width', 'height'];
 const ORDER = ['max_depth', 'rr_depth', 'light_sampling', 'mis', 'caustics', 'photons', 'caustic_photons', 'k',
   'radius', 'indirect', 'indirect_photons', 'indirect_radius', 'kernel', 'alpha', 'final_gather', 'photon_lookup'];
 
@@ -28,9 +29,10 @@ export class SettingsForm {
     const options = names.filter(n => n !== 'integrator' && schema[n].integrators.length > 0)
       .sort(byOrder(ORDER));
     const stop = STOP.filter(n => n in schema);
+    const image = IMAGE.filter(n => n in schema);
     const accel = names.filter(n => n === 'accelerator');
     const rest = names.filter(n => n !== 'integrator' && n !== 'preset' && !options.includes(n) &&
-      !stop.includes(n) && !accel.includes(n)).sort();
+      !stop.includes(n) && !image.includes(n) && !accel.includes(n)).sort();
 
     this.sceneSettings = {};
     container.replaceChildren(
@@ -40,6 +42,8 @@ export class SettingsForm {
       this.optionsGroup = this.group('Integrator options', options, 'options'),
       this.group('Stopping rule', stop, 'stop',
         'The render stops at whichever limit it reaches first; 0 turns a limit off.'),
+      this.group('Image size', image, 'image',
+        'Over the scene camera\'s: 0 keeps its size, and one side alone keeps its aspect ratio.'),
       this.group('Accelerator', accel),
       this.more(rest));
     this.fields.get('integrator').input.addEventListener('change', () => this.showIntegrator());
