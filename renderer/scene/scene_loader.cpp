@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "lights/area_light.h"
 #include "lights/point_light.h"
+#include "materials/conductor.h"
 #include "materials/dielectric.h"
 #include "materials/diffuse.h"
 #include "materials/mirror.h"
@@ -18,7 +19,7 @@
 namespace caustic {
 namespace {
 
-const std::vector<std::string> kMaterialTypes{"diffuse", "mirror", "dielectric"};
+const std::vector<std::string> kMaterialTypes{"diffuse", "mirror", "dielectric", "conductor"};
 const std::vector<std::string> kShapeTypes{"sphere", "quad", "triangle", "mesh"};
 const std::vector<std::string> kLightTypes{"point"};
 
@@ -75,6 +76,26 @@ Camera readCamera(const Json& j, const SceneOptions& options, Frame& frame) {
     return Camera(position, lookAt, up, fov, static_cast<int>(width), static_cast<int>(height));
 }
 
+// A metal: its roughness, and its Fresnel term from either f0 or a complex index eta + i k.
+std::unique_ptr<Material> readConductor(JsonObject& o, const Color& emission) {
+    const float roughness = o.number("roughness", 0.0f);
+    if (!(roughness >= 0.0f && roughness <= 1.0f))
+        throw InputError(o.pathOf("roughness"), "must be in [0, 1]");
+    const bool byIor = o.find("eta") || o.find("k");
+    if (byIor && o.find("f0"))
+        throw InputError(o.pathOf("f0"), "give either f0 or eta and k, not both");
+    ConductorFresnel fresnel = ConductorFresnel::fromF0(readReflectance(o, "f0", Color(1.0f)));
+    if (byIor) {
+        const Color eta = o.color("eta"), k = o.color("k", Color(0.0f));
+        for (int c = 0; c < 3; ++c)
+            if (!(eta[c] > 0.0f))
+                throw InputError(jsonPointer(o.pathOf("eta"), size_t(c)), "must be > 0");
+        fresnel = ConductorFresnel::fromComplexIor(eta, k);
+    }
+    const bool multipleScattering = o.boolean("multiple_scattering", true);
+    return std::make_unique<Conductor>(roughness, fresnel, multipleScattering, emission);
+}
+
 std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path) {
     JsonObject o(j, path);
     std::string type = o.choice("type", kMaterialTypes);
@@ -84,6 +105,8 @@ std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path) {
         m = std::make_unique<Diffuse>(readReflectance(o, "albedo", Color(0.8f)), emission);
     } else if (type == "mirror") {
         m = std::make_unique<Mirror>(readReflectance(o, "reflectance", Color(1.0f)), emission);
+    } else if (type == "conductor") {
+        m = readConductor(o, emission);
     } else {
         float ior = o.number("ior", 1.5f);
         if (!(ior > 0.0f)) throw InputError(o.pathOf("ior"), "must be > 0");

@@ -145,7 +145,7 @@ TEST(SceneLoaderErrors, UnknownFieldInCameraShapeOrMaterial) {
 
 TEST(SceneLoaderErrors, UnknownTypesListValidTypes) {
     EXPECT_SCENE_ERROR(patched("/materials/white/type", "glossy"), "/materials/white/type",
-                       "unknown value \"glossy\"; valid: dielectric, diffuse, mirror");
+                       "unknown value \"glossy\"; valid: conductor, dielectric, diffuse, mirror");
     EXPECT_SCENE_ERROR(patched("/shapes/0/type", "cone"), "/shapes/0/type",
                        "unknown value \"cone\"; valid: mesh, quad, sphere, triangle");
 }
@@ -223,6 +223,34 @@ TEST(SceneLoaderErrors, DielectricIorAndFresnel) {
                        "must be > 0");
     EXPECT_SCENE_ERROR(patched("/materials/glass/fresnel", "fast"), "/materials/glass/fresnel",
                        "unknown value \"fast\"; valid: exact, schlick");
+}
+
+TEST(SceneLoaderErrors, ConductorRoughnessAndFresnel) {
+    const auto metal = [](const std::vector<std::pair<std::string, Json>>& fields) {
+        Json m{{"type", "conductor"}, {"roughness", 0.3}};
+        for (const auto& [key, value] : fields) m[key] = value;
+        return m;
+    };
+    EXPECT_SCENE_ERROR(patched("/materials/m", metal({{"roughness", 1.5}})),
+                       "/materials/m/roughness", "must be in [0, 1]");
+    EXPECT_SCENE_ERROR(patched("/materials/m", metal({{"roughness", -0.1}})),
+                       "/materials/m/roughness", "must be in [0, 1]");
+    EXPECT_SCENE_ERROR(patched("/materials/m", metal({{"f0", {1, 1.2, 1}}})), "/materials/m/f0/1",
+                       "must be <= 1 (energy conservation)");
+    const Json both = metal({{"f0", {1, 1, 1}}, {"eta", {0.2, 0.9, 1.1}}});
+    EXPECT_SCENE_ERROR(patched("/materials/m", both), "/materials/m/f0",
+                       "give either f0 or eta and k, not both");
+    EXPECT_SCENE_ERROR(patched("/materials/m", metal({{"eta", {0.2, 0, 1.1}}})),
+                       "/materials/m/eta/1", "must be > 0");
+    EXPECT_SCENE_ERROR(
+        patched("/materials/m", metal({{"eta", {0.2, 0.9, 1.1}}, {"k", {-1, 0, 1}}})),
+        "/materials/m/k/0", "must be >= 0");
+    EXPECT_SCENE_ERROR(patched("/materials/m", metal({{"multiple_scattering", 1}})),
+                       "/materials/m/multiple_scattering", "expected a boolean, got a number");
+    EXPECT_SCENE_ERROR(
+        patched("/materials/m", metal({{"albedo", {1, 1, 1}}})), "/materials/m/albedo",
+        "unknown field; valid fields here: emission, eta, f0, k, multiple_scattering, "
+        "roughness, type");
 }
 
 TEST(SceneLoaderErrors, MaterialsNotObjects) {

@@ -1,0 +1,49 @@
+// A metal: GGX microfacet reflection with a conductor's Fresnel term (Walter et al. 2007, with
+// Smith's height-correlated masking, Heitz 2014), sampled by visible normals (Heitz 2018), plus
+// Kulla and Conty's multiple-scattering lobe, which returns the energy single scattering loses on
+// rough surfaces (a white metal in a white furnace stays white). A roughness below 0.03 is a
+// smooth metal: specular reflection weighted by the Fresnel term. Opaque; both sides reflect.
+#pragma once
+
+#include "materials/conductor_fresnel.h"
+#include "materials/ggx.h"
+#include "materials/material.h"
+
+namespace caustic {
+
+class Conductor final : public Material {
+public:
+    /// roughness: perceptual, in [0, 1] (alpha = roughness^2). multipleScattering: add Kulla and
+    /// Conty's lobe (off only to compare with renderers that lack it).
+    Conductor(float roughness, const ConductorFresnel& fresnel, bool multipleScattering,
+              const Color& emission);
+
+    Color f(const Vec3& wo, const Vec3& wi, const Vec3& n) const override;
+    float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) const override;
+    /// A visible normal's mirror direction, or, with probability 1 - E(mu_o), a cosine-weighted
+    /// direction for the multiple-scattering lobe; nullopt when the reflection falls below the
+    /// horizon.
+    std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, float uc, Vec2 u,
+                                     TransportMode mode) const override;
+    int specularLobes(const Vec3& wo, const Vec3& n, TransportMode mode,
+                      SpecularLobe out[2]) const override;
+
+    /// Roughness below which the surface is a specular reflector.
+    static constexpr float kSmoothRoughness = 0.03f;
+
+private:
+    /// f and pdf in the local frame of the side wo is on (wo.z > 0).
+    Color fLocal(const Vec3& wo, const Vec3& wi) const;
+    float pdfLocal(const Vec3& wo, const Vec3& wi) const;
+    /// The probability of sampling the multiple-scattering lobe from wo.
+    float multipleScatteringProbability(float muO) const;
+
+    float roughness_;
+    Ggx ggx_;
+    ConductorFresnel fresnel_;
+    bool multipleScattering_;
+    float averageAlbedo_ = 1.0f;   ///< E_avg; 1 without the lobe.
+    Color multipleFresnel_{0.0f};  ///< F_ms, the lobe's colour (Kulla and Conty 2017).
+};
+
+}  // namespace caustic

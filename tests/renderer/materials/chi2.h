@@ -1,0 +1,189 @@
+// A chi-square test of a sampling routine against the density it claims, in the manner of Mitsuba
+// 3's ChiSquareTest (mitsuba/python/chi2.py): the sphere of directions is cut into cells of equal
+// solid angle (cos theta by phi), the samples are counted per cell, the density is integrated over
+// each cell by Simpson's rule, cells expecting fewer than 5 samples are pooled, and Pearson's
+// statistic gives a p-value. Samples that fail (no direction) form a cell of their own, expected
+// in proportion to the density's missing mass. A test passes when p is above its significance,
+// which a caller divides among its tests (Sidak's correction, chi2Significance).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "core/rng.h"
+
+namespace caustic::testing {
+
+struct Chi2Result {
+    double statistic = 0.0;
+    int dof = 0;
+    double pValue = 0.0;
+    double pdfIntegral = 0.0;      ///< The density's integral over the sphere.
+    double sampledFraction = 0.0;  ///< The samples that returned a direction.
+    std::string summary;           ///< One line for a failure message.
+};
+
+/// The regularized upper incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a): the
+/// probability that a chi-square variable of 2a degrees of freedom exceeds 2x (Numerical Recipes,
+/// 3rd ed., 6.2: its series below a + 1, its continued fraction above).
+inline double upperIncompleteGamma(double a, double x) {
+    if (x <= 0.0) return 1.0;
+    const double logPrefix = -x + a * std::log(x) - std::lgamma(a);
+    if (x < a + 1.0) {
+        double term = 1.0 / a, sum = term;
+        for (int n = 1; n < 100000 && std::abs(term) > std::abs(sum) * 1e-15; ++n) {
+            term *= x / (a + n);
+            sum += term;
+        }
+        return std::max(0.0, 1.0 - sum * std::exp(logPrefix));
+    }
+    // Lentz's method for the continued fraction.
+    const double tiny = 1e-300;
+    double b = x + 1.0 - a, c = 1.0 / tiny, d = 1.0 / b, h = d;
+    for (int i = 1; i < 100000; ++i) {
+        const double an = -i * (i - a);
+        b += 2.0;
+        d = an * d + b;
+        if (std::abs(d) < tiny) d = tiny;
+        c = b + an / c;
+        if (std::abs(c) < tiny) c = tiny;
+        d = 1.0 / d;
+        const double delta = d * c;
+        h *= delta;
+        if (std::abs(delta - 1.0) < 1e-15) break;
+    }
+    return std::exp(logPrefix) * h;
+}
+
+namespace detail {
+
+// Simpson's rule on k x k points (k odd) of the cell [z0, z1] x [p0, p1] in (cos theta, phi),
+// where the solid angle element is dz dphi.
+inline double simpsonCell(const std::function<double(const Vec3&)>& pdf, double z0, double z1,
+                          double p0, double p1, int k) {
+    auto weight = [k](int i) { return i == 0 || i == k - 1 ? 1.0 : i % 2 == 1 ? 4.0 : 2.0; };
+    double sum = 0.0;
+    for (int a = 0; a < k; ++a)
+        for (int b = 0; b < k; ++b) {
+            const double z = z0 + (z1 - z0) * a / (k - 1), phi = p0 + (p1 - p0) * b / (k - 1);
+            const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+            sum += weight(a) * weight(b) *
+                   pdf(Vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(z)));
+        }
+    return sum * (z1 - z0) / (3.0 * (k - 1)) * (p1 - p0) / (3.0 * (k - 1));
+}
+
+// The integral over a cell: Simpson on 5 x 5 points, and on 9 x 9; where they differ by more than
+// 1e-4 of it (or 1e-10: a ten-thousandth of a sample in a million), the cell is split in four, down
+// to 6 levels.
+inline double integrateCell(const std::function<double(const Vec3&)>& pdf, double z0, double z1,
+                            double p0, double p1, int depth = 0) {
+    const double coarse = simpsonCell(pdf, z0, z1, p0, p1, 5);
+    const double fine = simpsonCell(pdf, z0, z1, p0, p1, 9);
+    if (depth >= 6 || std::abs(fine - coarse) <= std::max(1e-4 * std::abs(fine), 1e-10))
+        return fine;
+    const double zm = 0.5 * (z0 + z1), pm = 0.5 * (p0 + p1);
+    return integrateCell(pdf, z0, zm, p0, pm, depth + 1) +
+           integrateCell(pdf, zm, z1, p0, pm, depth + 1) +
+           integrateCell(pdf, z0, zm, pm, p1, depth + 1) +
+           integrateCell(pdf, zm, z1, pm, p1, depth + 1);
+}
+
+}  // namespace detail
+
+/// The significance of each of `tests` tests for a family-wise false-alarm rate `alpha` (Sidak).
+inline double chi2Significance(int tests, double alpha = 0.01) {
+    return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+}
+
+/// sample(u, uc): a unit direction from a 2D sample and a lobe choice, or nullopt. pdf(w): the
+/// density per unit solid angle that sample claims. Directions are in the frame the caller chose
+/// (the cells are cut in cos(w.z) and atan2(w.y, w.x)).
+inline Chi2Result chi2Test(const std::function<std::optional<Vec3>(Vec2, float)>& sample,
+                           const std::function<double(const Vec3&)>& pdf,
+                           uint64_t samples = 1000000, int cosBins = 40, int phiBins = 80,
+                           uint64_t seed = 1) {
+    const int cells = cosBins * phiBins;
+    std::vector<double> observed(size_t(cells) + 1, 0.0), expected(size_t(cells) + 1, 0.0);
+    Chi2Result r;
+
+    // Count the samples per cell; the last cell holds the failures.
+    Rng rng(seed);
+    uint64_t hits = 0;
+    for (uint64_t i = 0; i < samples; ++i) {
+        const Vec2 u(rng.uniform(), rng.uniform());
+        const std::optional<Vec3> w = sample(u, rng.uniform());
+        if (!w) {
+            observed[size_t(cells)] += 1.0;
+            continue;
+        }
+        ++hits;
+        const double z = std::clamp(double(w->z), -1.0, 1.0);
+        const double phi = std::atan2(double(w->y), double(w->x));
+        const int ic = std::min(cosBins - 1, int((z + 1.0) * 0.5 * cosBins));
+        const int ip = std::clamp(int((phi + M_PI) / (2.0 * M_PI) * phiBins), 0, phiBins - 1);
+        observed[size_t(ic * phiBins + ip)] += 1.0;
+    }
+    r.sampledFraction = double(hits) / double(samples);
+
+    // Integrate the density over each cell, adaptively: a narrow lobe's peak may be far smaller
+    // than a cell.
+    const double dz = 2.0 / cosBins, dphi = 2.0 * M_PI / phiBins;
+    for (int ic = 0; ic < cosBins; ++ic)
+        for (int ip = 0; ip < phiBins; ++ip) {
+            const double integral =
+                detail::integrateCell(pdf, -1.0 + dz * ic, -1.0 + dz * (ic + 1), -M_PI + dphi * ip,
+                                      -M_PI + dphi * (ip + 1));
+            expected[size_t(ic * phiBins + ip)] = integral * double(samples);
+            r.pdfIntegral += integral;
+        }
+    expected[size_t(cells)] = std::max(0.0, 1.0 - r.pdfIntegral) * double(samples);
+
+    // Pool the cells expecting fewer than 5 samples, smallest first, into bins of at least 5.
+    std::vector<size_t> order(expected.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return expected[a] < expected[b]; });
+    double poolObs = 0.0, poolExp = 0.0;
+    int bins = 0;
+    for (size_t i : order) {
+        if (expected[i] == 0.0 && observed[i] > 0.0) {
+            r.statistic = INFINITY;
+            r.summary = "a cell of zero density got " + std::to_string(int(observed[i])) +
+                        " samples (cell " + std::to_string(i) + ")";
+            return r;
+        }
+        if (expected[i] < 5.0 || poolExp > 0.0) {
+            poolObs += observed[i];
+            poolExp += expected[i];
+            if (poolExp >= 5.0) {
+                r.statistic += (poolObs - poolExp) * (poolObs - poolExp) / poolExp;
+                ++bins;
+                poolObs = poolExp = 0.0;
+            }
+            continue;
+        }
+        r.statistic += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
+        ++bins;
+    }
+    if (poolExp > 0.0) {  // only when every cell together expects fewer than 5 samples
+        r.statistic += (poolObs - poolExp) * (poolObs - poolExp) / poolExp;
+        ++bins;
+    }
+    r.dof = std::max(1, bins - 1);
+    r.pValue = upperIncompleteGamma(0.5 * r.dof, 0.5 * r.statistic);
+    std::ostringstream line;
+    line << "chi2 " << r.statistic << " on " << r.dof << " dof, p " << r.pValue << "; pdf integral "
+         << r.pdfIntegral << ", sampled fraction " << r.sampledFraction;
+    r.summary = line.str();
+    return r;
+}
+
+}  // namespace caustic::testing
