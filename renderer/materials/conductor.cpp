@@ -3,21 +3,15 @@
 #include "core/sampling.h"
 #include "materials/fresnel.h"
 #include "materials/ggx_albedo.h"
+#include "materials/shading_frame.h"
 
 namespace caustic {
 namespace {
 
-// The orthonormal frame of the side of the surface wo lies on: z its normal.
-struct Frame {
-    Vec3 t, b, n;
-    Frame(const Vec3& wo, const Vec3& normal) : n(glm::dot(wo, normal) < 0.0f ? -normal : normal) {
-        coordinateSystem(n, t, b);
-    }
-    Vec3 toLocal(const Vec3& v) const {
-        return Vec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n));
-    }
-    Vec3 toWorld(const Vec3& v) const { return v.x * t + v.y * b + v.z * n; }
-};
+// The frame of the side of the surface wo lies on: both sides reflect.
+ShadingFrame sideFrame(const Vec3& wo, const Vec3& n) {
+    return ShadingFrame(glm::dot(wo, n) < 0.0f ? -n : n);
+}
 
 }  // namespace
 
@@ -76,13 +70,13 @@ float Conductor::pdfLocal(const Vec3& wo, const Vec3& wi) const {
 
 Color Conductor::f(const Vec3& wo, const Vec3& wi, const Vec3& n) const {
     if (isSpecular()) return Color(0.0f);
-    const Frame frame(wo, n);
+    const ShadingFrame frame = sideFrame(wo, n);
     return fLocal(frame.toLocal(wo), frame.toLocal(wi));
 }
 
 float Conductor::pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) const {
     if (isSpecular()) return 0.0f;
-    const Frame frame(wo, n);
+    const ShadingFrame frame = sideFrame(wo, n);
     return pdfLocal(frame.toLocal(wo), frame.toLocal(wi));
 }
 
@@ -101,7 +95,7 @@ std::optional<BsdfSample> Conductor::sample(const Vec3& wo, const Vec3& n, float
         s.specular = true;
         return s;
     }
-    const Frame frame(wo, n);
+    const ShadingFrame frame = sideFrame(wo, n);
     const Vec3 woLocal = frame.toLocal(wo);
     if (!(woLocal.z > 0.0f)) return std::nullopt;
     Vec3 wiLocal;

@@ -11,6 +11,7 @@
 #include "materials/dielectric.h"
 #include "materials/diffuse.h"
 #include "materials/mirror.h"
+#include "materials/rough_dielectric.h"
 #include "scene/json_reader.h"
 #include "scene/mesh_file.h"
 #include "scene/mesh_loader.h"
@@ -76,11 +77,17 @@ Camera readCamera(const Json& j, const SceneOptions& options, Frame& frame) {
     return Camera(position, lookAt, up, fov, static_cast<int>(width), static_cast<int>(height));
 }
 
-// A metal: its roughness, and its Fresnel term from either f0 or a complex index eta + i k.
-std::unique_ptr<Material> readConductor(JsonObject& o, const Color& emission) {
+// A microfacet surface's perceptual roughness, in [0, 1]; 0 when absent (smooth).
+float readRoughness(JsonObject& o) {
     const float roughness = o.number("roughness", 0.0f);
     if (!(roughness >= 0.0f && roughness <= 1.0f))
         throw InputError(o.pathOf("roughness"), "must be in [0, 1]");
+    return roughness;
+}
+
+// A metal: its roughness, and its Fresnel term from either f0 or a complex index eta + i k.
+std::unique_ptr<Material> readConductor(JsonObject& o, const Color& emission) {
+    const float roughness = readRoughness(o);
     const bool byIor = o.find("eta") || o.find("k");
     if (byIor && o.find("f0"))
         throw InputError(o.pathOf("f0"), "give either f0 or eta and k, not both");
@@ -112,8 +119,12 @@ std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path) {
         if (!(ior > 0.0f)) throw InputError(o.pathOf("ior"), "must be > 0");
         std::string fresnel = o.choice("fresnel", {"exact", "schlick"}, "exact");
         Color tint = readReflectance(o, "tint", Color(1.0f));
-        m = std::make_unique<Dielectric>(
-            ior, fresnel == "exact" ? FresnelModel::Exact : FresnelModel::Schlick, tint, emission);
+        const float roughness = readRoughness(o);
+        const FresnelModel model = fresnel == "exact" ? FresnelModel::Exact : FresnelModel::Schlick;
+        if (roughness < Conductor::kSmoothRoughness)
+            m = std::make_unique<Dielectric>(ior, model, tint, emission);
+        else
+            m = std::make_unique<RoughDielectric>(roughness, ior, model, tint, emission);
     }
     o.finish();
     return m;

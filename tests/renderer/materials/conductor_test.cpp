@@ -15,13 +15,8 @@
 namespace caustic {
 namespace {
 
+using testing::directionAt;
 const Vec3 kNormal(0.0f, 0.0f, 1.0f);
-
-Vec3 direction(double thetaDegrees, double phi = 0.3) {
-    const double t = thetaDegrees * M_PI / 180.0;
-    return Vec3(float(std::sin(t) * std::cos(phi)), float(std::sin(t) * std::sin(phi)),
-                float(std::cos(t)));
-}
 
 // Gold's F0 (Lagarde and de Rousiers 2014, table 3) and copper's eta, k at 650, 550, 450 nm
 // (Palik, through pbrt-v4's spectra).
@@ -54,18 +49,11 @@ TEST(Conductor, SamplingMatchesItsPdf) {
             for (const ConductorFresnel* fresnel : {&kGold, &kCopper})
                 for (bool ms : {true, false}) {
                     const Conductor m(r, *fresnel, ms, Color(0.0f));
-                    const Vec3 wo = direction(theta);
-                    const testing::Chi2Result res = testing::chi2Test(
-                        [&](Vec2 u, float uc) -> std::optional<Vec3> {
-                            auto s = m.sample(wo, kNormal, uc, u, TransportMode::Radiance);
-                            if (!s) return std::nullopt;
-                            return s->wi;
-                        },
-                        [&](const Vec3& wi) { return double(m.pdf(wo, wi, kNormal)); }, 500000);
-                    EXPECT_GT(res.pValue, significance)
-                        << "roughness " << r << ", theta " << theta << ", "
-                        << (fresnel == &kGold ? "gold" : "copper") << (ms ? ", with" : ", without")
-                        << " multiple scattering: " << res.summary;
+                    testing::expectSamplingMatchesPdf(
+                        m, directionAt(theta), significance,
+                        "roughness " + std::to_string(r) + ", theta " + std::to_string(theta) +
+                            (fresnel == &kGold ? ", gold" : ", copper") +
+                            (ms ? ", with" : ", without") + " multiple scattering");
                 }
 }
 
@@ -74,7 +62,7 @@ TEST(Conductor, SamplesReportTheirValueAndDensity) {
     for (float r : {0.1f, 0.5f, 1.0f}) {
         const Conductor m(r, kCopper, true, Color(0.0f));
         for (int i = 0; i < 2000; ++i) {
-            const Vec3 wo = direction(89.0 * rng.uniform(), 6.28 * rng.uniform());
+            const Vec3 wo = directionAt(89.0 * rng.uniform(), 6.28 * rng.uniform());
             const Vec2 u(rng.uniform(), rng.uniform());
             auto s = m.sample(wo, kNormal, rng.uniform(), u, TransportMode::Radiance);
             if (!s) continue;
@@ -93,8 +81,8 @@ TEST(Conductor, IsReciprocalAndReflectsFromBothSides) {
     Rng rng(5);
     const Conductor m(0.4f, kGold, true, Color(0.0f));
     for (int i = 0; i < 1000; ++i) {
-        const Vec3 a = direction(89.0 * rng.uniform(), 6.28 * rng.uniform());
-        const Vec3 b = direction(89.0 * rng.uniform(), 6.28 * rng.uniform());
+        const Vec3 a = directionAt(89.0 * rng.uniform(), 6.28 * rng.uniform());
+        const Vec3 b = directionAt(89.0 * rng.uniform(), 6.28 * rng.uniform());
         const Color fab = m.f(a, b, kNormal), fba = m.f(b, a, kNormal);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(fab[c], fba[c], 1e-5f * fab[c] + 1e-7f);
         // The back side is the same surface, mirrored; nothing passes between the sides.
@@ -109,7 +97,7 @@ TEST(Conductor, IsReciprocalAndReflectsFromBothSides) {
 TEST(Conductor, WhiteFurnaceKeepsItsEnergyWithMultipleScattering) {
     for (float r : {0.05f, 0.1f, 0.25f, 0.5f, 0.75f, 1.0f})
         for (double theta : {0.0, 40.0, 70.0, 85.0}) {
-            const Vec3 wo = direction(theta);
+            const Vec3 wo = directionAt(theta);
             const float with = albedo(Conductor(r, kWhite, true, Color(0.0f)), wo, 200000).x;
             const float without = albedo(Conductor(r, kWhite, false, Color(0.0f)), wo, 200000).x;
             std::printf(
@@ -125,7 +113,7 @@ TEST(Conductor, WhiteFurnaceKeepsItsEnergyWithMultipleScattering) {
 TEST(Conductor, SmoothIsAFresnelWeightedMirror) {
     const Conductor m(0.0f, kCopper, true, Color(0.0f));
     ASSERT_TRUE(m.isSpecular());
-    const Vec3 wo = direction(50.0);
+    const Vec3 wo = directionAt(50.0);
     auto s = m.sample(wo, kNormal, 0.5f, Vec2(0.5f), TransportMode::Radiance);
     ASSERT_TRUE(s);
     EXPECT_TRUE(s->specular);

@@ -140,7 +140,7 @@ TEST(SceneLoaderErrors, UnknownFieldInCameraShapeOrMaterial) {
     EXPECT_SCENE_ERROR(patched("/materials/white/roughness", 0.5), "/materials/white/roughness",
                        "unknown field; valid fields here: albedo, emission, type");
     EXPECT_SCENE_ERROR(patched("/materials/glass/albedo", {1, 1, 1}), "/materials/glass/albedo",
-                       "unknown field; valid fields here: emission, fresnel, ior, tint, type");
+                       "unknown field; valid fields here: emission, fresnel, ior, roughness, tint, type");
 }
 
 TEST(SceneLoaderErrors, UnknownTypesListValidTypes) {

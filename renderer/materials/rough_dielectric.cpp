@@ -1,0 +1,111 @@
+#include "materials/rough_dielectric.h"
+
+#include "materials/fresnel.h"
+#include "materials/shading_frame.h"
+
+namespace caustic {
+namespace {
+
+// The microfacet normal that scatters wo into wi, on the outside's side (z > 0), and the relative
+// index along the path (1 for a reflection; eta entering, 1/eta leaving): the generalized half
+// vector (Walter et al. 2007, eqs. 13 and 16). nullopt when there is none or wo or wi lies on the
+// microfacet's back (pbrt-v4, "Discard backfacing microfacets").
+struct HalfVector {
+    Vec3 wm;
+    float etaPath = 1.0f;
+};
+std::optional<HalfVector> halfVector(const Vec3& wo, const Vec3& wi, float eta) {
+    const float cosO = wo.z, cosI = wi.z;
+    if (cosO == 0.0f || cosI == 0.0f) return std::nullopt;
+    HalfVector h;
+    if (cosO * cosI < 0.0f) h.etaPath = cosO > 0.0f ? eta : 1.0f / eta;
+    Vec3 wm = wo + h.etaPath * wi;
+    if (glm::dot(wm, wm) == 0.0f) return std::nullopt;
+    wm = glm::normalize(wm);
+    if (wm.z < 0.0f) wm = -wm;
+    if (glm::dot(wm, wi) * cosI < 0.0f || glm::dot(wm, wo) * cosO < 0.0f) return std::nullopt;
+    h.wm = wm;
+    return h;
+}
+
+}  // namespace
+
+RoughDielectric::RoughDielectric(float roughness, float ior, FresnelModel fresnel,
+                                 const Color& tint, const Color& emission)
+    : Material(emission, false),
+      ggx_(Ggx::alphaOf(roughness), Ggx::alphaOf(roughness)),
+      ior_(ior),
+      fresnel_(fresnel),
+      tint_(tint) {}
+
+Vec3 RoughDielectric::toLocal(const Vec3& v, const Vec3& n) {
+    return ShadingFrame(n).toLocal(v);
+}
+
+float RoughDielectric::reflectance(float cosThetaI) const {
+    return fresnel_ == FresnelModel::Exact ? fresnelDielectric(cosThetaI, ior_)
+                                           : fresnelSchlick(cosThetaI, ior_);
+}
+
+Color RoughDielectric::fLocal(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    const std::optional<HalfVector> h = halfVector(wo, wi, ior_);
+    if (!h) return Color(0.0f);
+    const float cosO = wo.z, cosI = wi.z;
+    const float dotO = glm::dot(wo, h->wm), dotI = glm::dot(wi, h->wm);
+    const float F = reflectance(dotO);
+    const float dg = ggx_.D(h->wm) * ggx_.G(wo, wi);
+    if (cosO * cosI > 0.0f) return tint_ * (dg * F / std::abs(4.0f * cosI * cosO));
+    // Walter et al. 2007, eq. 21, with the relative index of the path.
+    const float denom = sqr(dotI + dotO / h->etaPath) * cosI * cosO;
+    float ft = dg * (1.0f - F) * std::abs(dotI * dotO / denom);
+    if (mode == TransportMode::Radiance) ft /= sqr(h->etaPath);
+    return tint_ * ft;
+}
+
+float RoughDielectric::pdfLocal(const Vec3& wo, const Vec3& wi) const {
+    const std::optional<HalfVector> h = halfVector(wo, wi, ior_);
+    if (!h) return 0.0f;
+    const float dotO = glm::dot(wo, h->wm), dotI = glm::dot(wi, h->wm);
+    const float R = reflectance(dotO);
+    // The normals visible from wo. From inside, those are the facets whose backs face wo,
+    // wo.wm < 0: as many, and as dense, as those -wo sees from outside (G1 and D depend on wo
+    // only through its slope).
+    const float visible = ggx_.visibleD(wo.z > 0.0f ? wo : -wo, h->wm);
+    if (wo.z * wi.z > 0.0f) return visible / (4.0f * std::abs(dotO)) * R;
+    // The Jacobian of refraction, |wi.wm| / (wi.wm + wo.wm / eta)^2 (Walter et al. 2007, eq. 17).
+    return visible * std::abs(dotI) / sqr(dotI + dotO / h->etaPath) * (1.0f - R);
+}
+
+float RoughDielectric::pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) const {
+    return pdfLocal(toLocal(wo, n), toLocal(wi, n));
+}
+
+std::optional<BsdfSample> RoughDielectric::sample(const Vec3& wo, const Vec3& n, float uc, Vec2 u,
+                                                  TransportMode mode) const {
+    const ShadingFrame frame(n);
+    const Vec3 woLocal = frame.toLocal(wo);
+    if (woLocal.z == 0.0f) return std::nullopt;
+    // A normal visible from wo (pdfLocal says why -wo's from inside), on the outside's side.
+    const bool outside = woLocal.z > 0.0f;
+    const Vec3 wm = ggx_.sampleVisible(outside ? woLocal : -woLocal, u);
+    const float R = reflectance(glm::dot(woLocal, wm));
+    Vec3 wiLocal;
+    if (uc < R) {
+        wiLocal = reflect(woLocal, wm);
+        if (wiLocal.z * woLocal.z <= 0.0f) return std::nullopt;
+    } else {
+        float etaPath = 1.0f;
+        if (!refract(woLocal, wm, ior_, etaPath, wiLocal)) return std::nullopt;
+        if (wiLocal.z * woLocal.z >= 0.0f) return std::nullopt;
+    }
+    BsdfSample s;
+    s.f = fLocal(woLocal, wiLocal, mode);
+    s.pdf = pdfLocal(woLocal, wiLocal);
+    if (!(s.pdf > 0.0f) || isBlack(s.f)) return std::nullopt;
+    s.wi = frame.toWorld(wiLocal);
+    s.weight = s.f * std::abs(wiLocal.z) / s.pdf;
+    if (wiLocal.z * woLocal.z < 0.0f) s.eta = outside ? ior_ : 1.0f / ior_;
+    return s;
+}
+
+}  // namespace caustic
