@@ -11,8 +11,9 @@ namespace {
 constexpr float kMinAlpha = 1e-4f;
 
 // A fractional index into n nodes evenly spaced on [0, 1]: the node below and the weight above.
+// x outside [0, 1] is clamped, and NaN taken as 0 (converting a NaN to int is undefined).
 void locate(float x, int n, int& i, float& t) {
-    const float f = std::clamp(x, 0.0f, 1.0f) * float(n - 1);
+    const float f = (x > 0.0f ? std::min(x, 1.0f) : 0.0f) * float(n - 1);
     i = std::min(int(f), n - 2);
     t = f - float(i);
 }
