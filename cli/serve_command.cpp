@@ -83,7 +83,8 @@ void addLimits(CLI::App& limits, server::ServiceLimits& l) {
     cli::addNumber(limits, "--max-pixels", l.maxPixels, 1, 268435456, "Width times height");
     cli::addNumber(limits, "--max-spp", l.maxSpp, 1, 1e6, "Samples per pixel");
     cli::addNumber(limits, "--max-photons", l.maxPhotons, 1, 1e9,
-                   "photons and caustic_photons, per pass");
+                   "photons, caustic_photons and indirect_photons, per pass, wherever the job's "
+                   "integrator reads them");
     cli::addNumber(limits, "--max-time-limit", l.maxTimeLimit, 1, 1e6,
                    "Seconds; a job that sets no time_limit gets this one");
     cli::addNumber(limits, "--max-memory-mib", l.maxMemoryMiB, 1, 1e9,

@@ -40,6 +40,11 @@ std::string rangeText(const SettingSpec& spec) {
     for (const std::string& choice : spec.choices)
         text += (text.empty() ? "" : ", ") + code(choice);
     if (!spec.unit.empty()) text += " " + spec.unit;
+    // The render service's flag that caps it (server/jobs/submission.cpp).
+    static const char* const flags[] = {"", "--max-spp", "--max-photons", "--max-time-limit",
+                                        "--max-memory-mib"};
+    if (spec.cap != SettingCap::None)
+        text += "; at most the service's " + code(flags[static_cast<int>(spec.cap)]);
     return text;
 }
 

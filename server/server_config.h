@@ -18,7 +18,7 @@ struct ServiceLimits {
     int maxResolution = 4096;                  ///< Pixels per side.
     int64_t maxPixels = int64_t(2048) * 2048;  ///< width x height.
     int maxSpp = 65536;
-    int64_t maxPhotons = 10000000;  ///< photons and caustic_photons, per pass.
+    int64_t maxPhotons = 10000000;  ///< photons, caustic_photons, indirect_photons, per pass.
     double maxTimeLimit = 3600;     ///< Seconds; a job that sets none gets this one.
     double maxMemoryMiB = 4096;     ///< Estimated peak; a job's memory_limit is capped by it.
     int maxQueuedJobs = 100;        ///< Queued (not yet running) jobs.

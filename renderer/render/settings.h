@@ -57,6 +57,11 @@ struct RenderSettings : TraceSettings {
 };
 
 enum class SettingType { Integer, Number, Boolean, String };
+
+/// Which of a render service's limits caps a setting (the service's --max-spp, --max-photons,
+/// --max-time-limit, --max-memory-mib): admission holds every setting a job's integrator reads to
+/// its cap, so a setting gets the same cap whichever integrator reads it.
+enum class SettingCap { None, Spp, Photons, Seconds, MemoryMiB };
 /// "integer", "number", "boolean" or "string": the JSON Schema type.
 const char* toString(SettingType type);
 
@@ -88,6 +93,7 @@ struct SettingSpec {
     /// reads it whenever `integrators` names it.
     unsigned pathMaps = 0;
     static constexpr unsigned kCausticMap = 1, kIndirectMap = 2;
+    SettingCap cap = SettingCap::None;  ///< The service's limit on it, if any.
     std::string description{};
 
     /// Whether `integrator` (a name) reads it.

@@ -102,6 +102,7 @@ std::vector<SettingSpec> rows() {
          .min = 1,
          .max = 1e6,
          .unit = "samples/pixel",
+         .cap = SettingCap::Spp,
          .description = "Samples per pixel; the render stops when it has taken them all."},
         {.name = "spp_per_pass",
          .field = field(&R::sppPerPass),
@@ -115,6 +116,7 @@ std::vector<SettingSpec> rows() {
          .min = 0,
          .max = 1e6,
          .unit = "s",
+         .cap = SettingCap::Seconds,
          .description = "Stop after the pass that reaches this wall time; 0 for no limit."},
         {.name = "target_error",
          .field = field(&R::targetError),
@@ -181,6 +183,7 @@ std::vector<SettingSpec> rows() {
          .unit = "photon paths/pass",
          .integrators = {"path"},
          .pathMaps = SettingSpec::kIndirectMap,
+         .cap = SettingCap::Photons,
          .description = "Photon paths traced from the lights in each pass for path's indirect "
                         "map (indirect = photon_map); it keeps the photons that scattered before "
                         "they landed (56 bytes each)."},
@@ -201,6 +204,7 @@ std::vector<SettingSpec> rows() {
          .unit = "photon paths/pass",
          .integrators = causticMappers,
          .pathMaps = caustic,
+         .cap = SettingCap::Photons,
          .description = "Photon paths traced from the lights in each pass (each stored photon "
                         "takes 56 bytes); path (caustics = photon_map): the caustic map's paths, "
                         "each ending at its first diffuse hit."},
@@ -210,6 +214,7 @@ std::vector<SettingSpec> rows() {
          .max = 1e9,
          .unit = "photon paths/pass",
          .integrators = photonMappers,
+         .cap = SettingCap::Photons,
          .description = "Photon paths traced for the caustic map alone in each pass; each ends "
                         "at its first diffuse hit, so they are cheap. 0 takes the caustic "
                         "photons of the `photons` paths."},
@@ -303,6 +308,7 @@ std::vector<SettingSpec> rows() {
          .min = 0,
          .max = 1e9,
          .unit = "MiB",
+         .cap = SettingCap::MemoryMiB,
          .description = "Refuse, before the first pass, a render whose estimated peak memory "
                         "(scene, accelerator, film, photon maps) exceeds this; 0 for half the "
                         "machine's memory."},

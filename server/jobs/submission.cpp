@@ -24,12 +24,22 @@ std::string formatLimit(double v) {
     return j.dump();
 }
 
-void atMost(const Json& settings, const char* key, double limit, const std::string& what) {
-    double v = settings[key].get<double>();
-    if (v > limit)
-        throw InputError(jsonPointer("/settings", key), "must be at most " + formatLimit(limit) +
-                                                            " on this server (" + what + "), got " +
-                                                            formatLimit(v));
+// The setting `spec` of `settings` held to the service's limit that caps it.
+void atMost(const Json& settings, const SettingSpec& spec, const ServiceLimits& limits) {
+    struct Cap {
+        double limit;
+        const char* what;
+    };
+    const Cap cap =
+        spec.cap == SettingCap::Spp       ? Cap{double(limits.maxSpp), "samples per pixel"}
+        : spec.cap == SettingCap::Photons ? Cap{double(limits.maxPhotons), "photon paths per pass"}
+        : spec.cap == SettingCap::Seconds ? Cap{limits.maxTimeLimit, "seconds per render"}
+                                          : Cap{limits.maxMemoryMiB, "MiB per render"};
+    const double v = settings[spec.name].get<double>();
+    if (v > cap.limit)
+        throw InputError(jsonPointer("/settings", spec.name),
+                         "must be at most " + formatLimit(cap.limit) + " on this server (" +
+                             cap.what + "), got " + formatLimit(v));
 }
 
 Json resolveScene(const Json& scene, const ServerConfig& config, std::string& name) {
@@ -123,16 +133,11 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
     RenderSettings settings = parseSettings(mergeSettings(scene->settings, asked), "/settings");
     applyResolution(*scene, settings, options);
 
-    // The service's limits.
-    Json s = settings.toJson();
-    atMost(s, "spp", limits.maxSpp, "samples per pixel");
-    // Only the photon integrators trace photons: a path-traced job keeps the default photons.
-    if (settings.integrator == "photon" || settings.integrator == "ppm") {
-        atMost(s, "photons", double(limits.maxPhotons), "photon paths per pass");
-        atMost(s, "caustic_photons", double(limits.maxPhotons), "photon paths per pass");
-    }
-    atMost(s, "time_limit", limits.maxTimeLimit, "seconds per render");
-    atMost(s, "memory_limit", limits.maxMemoryMiB, "MiB per render");
+    // The service's limits, on every setting the job's integrator reads that one caps (a path
+    // job's photons only with a photon map: without one it traces none).
+    const Json s = settings.toJson();
+    for (const SettingSpec& spec : settingSpecs())
+        if (spec.cap != SettingCap::None && s.contains(spec.name)) atMost(s, spec, limits);
     if (settings.timeLimit == 0) settings.timeLimit = limits.maxTimeLimit;
     if (settings.memoryLimit == 0) settings.memoryLimit = limits.maxMemoryMiB;
     if (config.renderThreads > 0 &&

@@ -228,11 +228,18 @@ def test_post_without_a_body_needs_no_content_length(servers):
     assert_problem(r, 404, detail="no job")
 
 
-def test_photon_limit_applies_to_photon_integrators_only(start_server):
+def test_photon_limit_applies_wherever_photons_are_traced(start_server):
     # --max-photons below the default photons (200000) must not refuse a path-traced job, which
-    # traces none; a photon job over it is refused, naming the setting.
+    # traces none; a job that traces photons over it is refused, naming the setting: photon and
+    # ppm, and path with either of its photon maps.
     server = start_server("--threads", "2", "--max-photons", "1000")
     r = server.submit({"scene": TINY_SCENE, "settings": {"spp": 1}})
+    assert r.status_code == 202, r.text
+    assert_problem(server.submit(with_settings(spp=1, caustics="photon_map")), 422,
+                   "/settings/photons", "at most 1000")
+    assert_problem(server.submit(with_settings(spp=1, indirect="photon_map", indirect_photons=5000)),
+                   422, "/settings/indirect_photons", "at most 1000 on this server")
+    r = server.submit(with_settings(spp=1, indirect="photon_map", indirect_photons=1000))
     assert r.status_code == 202, r.text
     for integrator in ("photon", "ppm"):
         assert_problem(server.submit(with_settings(integrator=integrator, spp=1)), 422,
