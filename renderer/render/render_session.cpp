@@ -95,7 +95,7 @@ RenderSession::RenderSession(const Scene& scene, const RenderSettings& settings,
     : scene_(scene),
       settings_(settings),
       sppPerPass_(settings.resolvedSppPerPass()),
-      passesTotal_((settings.spp + sppPerPass_ - 1) / sppPerPass_),
+      passesTotal_(settings.passesTotal()),
       threads_(settings.threads > 0 ? settings.threads : omp_get_max_threads()) {
     // Build what this render needs.
     auto t0 = Clock::now();

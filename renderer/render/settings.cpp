@@ -144,6 +144,11 @@ RenderSettings parseSettings(const Json& settings, const std::string& path) {
     return r;
 }
 
+int RenderSettings::passesTotal() const {
+    const int perPass = resolvedSppPerPass();
+    return (spp + perPass - 1) / perPass;
+}
+
 int RenderSettings::resolvedSppPerPass() const {
     if (sppPerPass > 0) return sppPerPass;
     int best = 1;

@@ -47,6 +47,9 @@ struct RenderSettings : TraceSettings {
     /// Samples per pass after resolving 0: the largest divisor of spp no greater than spp / 64, so
     /// that a render has about 64 equal passes (every pass when spp < 64).
     int resolvedSppPerPass() const;
+    /// The passes of a render: spp / resolvedSppPerPass(), rounded up (an spp_per_pass that does
+    /// not divide spp takes a last whole pass). Every count of passes comes from here.
+    int passesTotal() const;
     /// memory_limit in bytes, with 0 resolved to half the physical memory.
     size_t memoryLimitBytes() const;
     /// The general settings and those `integrator` reads, by JSON name; parseSettings takes it

@@ -150,8 +150,7 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
     // Split into tasks where workers share a store (store/task.h).
     const int64_t taskPasses = integerField(body, "task_passes", 1, exact::kMaxPasses, 0);
     if (!config.store.empty()) {
-        const int perPass = settings.resolvedSppPerPass();
-        job.passesTotal = (settings.spp + perPass - 1) / perPass;
+        job.passesTotal = settings.passesTotal();
         job.taskPasses = int(taskPasses > 0 ? taskPasses : config.taskPasses);
     }
     return job;

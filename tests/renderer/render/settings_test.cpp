@@ -251,5 +251,20 @@ TEST(SettingsPasses, ResolvedSppPerPass) {
     }
 }
 
+TEST(SettingsPasses, PassesTotalRoundsUp) {
+    auto passes = [](int spp, int sppPerPass = 0) {
+        RenderSettings s;
+        s.spp = spp;
+        s.sppPerPass = sppPerPass;
+        return s.passesTotal();
+    };
+    EXPECT_EQ(passes(64), 64);
+    EXPECT_EQ(passes(1024), 64);
+    EXPECT_EQ(passes(1000), 100);
+    EXPECT_EQ(passes(100, 7), 15);  // 14 passes of 7 take 98: a 15th takes the last 2 and 5 more
+    EXPECT_EQ(passes(1024, 8), 128);
+    EXPECT_EQ(passes(1), 1);
+}
+
 }  // namespace
 }  // namespace caustic
