@@ -227,12 +227,17 @@ TEST(SettingsCommandLine, ParseSettingValue) {
     EXPECT_EQ(parseSettings(Json{{"spp", parseSettingValue("64")}}).spp, 64);
 }
 
+// Settings of spp samples per pixel in passes of sppPerPass (0: chosen).
+RenderSettings sppSettings(int spp, int sppPerPass = 0) {
+    RenderSettings s;
+    s.spp = spp;
+    s.sppPerPass = sppPerPass;
+    return s;
+}
+
 TEST(SettingsPasses, ResolvedSppPerPass) {
     auto resolved = [](int spp, int sppPerPass = 0) {
-        RenderSettings s;
-        s.spp = spp;
-        s.sppPerPass = sppPerPass;
-        return s.resolvedSppPerPass();
+        return sppSettings(spp, sppPerPass).resolvedSppPerPass();
     };
     EXPECT_EQ(resolved(64), 1);
     EXPECT_EQ(resolved(1024), 16);
@@ -253,10 +258,7 @@ TEST(SettingsPasses, ResolvedSppPerPass) {
 
 TEST(SettingsPasses, PassesTotalRoundsUp) {
     auto passes = [](int spp, int sppPerPass = 0) {
-        RenderSettings s;
-        s.spp = spp;
-        s.sppPerPass = sppPerPass;
-        return s.passesTotal();
+        return sppSettings(spp, sppPerPass).passesTotal();
     };
     EXPECT_EQ(passes(64), 64);
     EXPECT_EQ(passes(1024), 64);
