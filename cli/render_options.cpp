@@ -10,13 +10,6 @@
 namespace caustic {
 namespace {
 
-// The value of a setting as it is typed on the command line: strings without quotes.
-std::string valueText(const Json& value) {
-    if (value.is_string()) return value.get<std::string>();
-    if (value.is_number()) return cli::formatNumber(value.get<double>());
-    return value.dump();
-}
-
 std::string joined(const std::vector<std::string>& items) {
     std::string text;
     for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
@@ -79,7 +72,7 @@ void addSettingOptions(CLI::App& render, Json& overrides) {
                 },
                 settingHelp(spec))
             ->type_name(settingTypeText(spec))
-            ->default_str(valueText(spec.defaultValue))
+            ->default_str(settingValueText(spec.defaultValue))
             ->group(
                 "Render settings (over the scene's own; the default is the scene's, else the "
                 "one shown)")
@@ -88,6 +81,12 @@ void addSettingOptions(CLI::App& render, Json& overrides) {
 }
 
 }  // namespace
+
+std::string settingValueText(const Json& value) {
+    if (value.is_string()) return value.get<std::string>();
+    if (value.is_number()) return cli::formatNumber(value.get<double>());
+    return value.dump();
+}
 
 std::string settingOptionName(const std::string& setting) {
     std::string name = "--" + setting;

@@ -28,6 +28,8 @@ struct RenderOptions {
 
 /// The option of a render setting: "light_sampling" is --light-sampling.
 std::string settingOptionName(const std::string& setting);
+/// A setting's value as it is typed on the command line: strings without quotes, numbers short.
+std::string settingValueText(const nlohmann::json& value);
 
 /// Adds the `render` subcommand to `app`. Parsing fills `options`, which must outlive it.
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options);

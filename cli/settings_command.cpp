@@ -25,11 +25,6 @@ std::string code(const std::string& text) {
     return "`" + text + "`";
 }
 
-std::string valueText(const Json& value) {
-    if (value.is_number()) return cli::formatNumber(value.get<double>());
-    return value.is_string() ? value.get<std::string>() : value.dump();
-}
-
 // The values a setting takes: its range and unit, or its choices.
 std::string rangeText(const SettingSpec& spec) {
     std::string text;
@@ -67,7 +62,7 @@ std::string readByText(const SettingSpec& spec) {
 std::string presetText(const Json& settings) {
     std::string text;
     for (auto it = settings.begin(); it != settings.end(); ++it)
-        text += (text.empty() ? "" : ", ") + code(it.key() + "=" + valueText(it.value()));
+        text += (text.empty() ? "" : ", ") + code(it.key() + "=" + settingValueText(it.value()));
     return text;
 }
 
@@ -92,7 +87,7 @@ std::string settingsMarkdown() {
           "|---|---|---|---|---|---|\n";
     for (const SettingSpec& spec : settingSpecs())
         md << "| " << code(spec.name) << " (" << code(settingOptionName(spec.name)) << ") | "
-           << toString(spec.type) << " | " << code(valueText(spec.defaultValue)) << " | "
+           << toString(spec.type) << " | " << code(settingValueText(spec.defaultValue)) << " | "
            << cell(rangeText(spec)) << " | " << readByText(spec) << " | " << cell(spec.description)
            << " |\n";
     md << "\n## Presets\n\n"

@@ -33,51 +33,40 @@ Conductor::Conductor(float roughness, const ConductorFresnel& fresnel, bool mult
     }
 }
 
-float Conductor::multipleScatteringProbability(float muO) const {
-    return multipleScattering_ ? 1.0f - GgxAlbedo::get().albedo(muO, roughness_) : 0.0f;
-}
-
-Color Conductor::fLocal(const Vec3& wo, const Vec3& wi) const {
-    if (!(wi.z > 0.0f) || !(wo.z > 0.0f)) return Color(0.0f);
+BsdfEval Conductor::evalLocal(const Vec3& wo, const Vec3& wi) const {
+    if (!(wi.z > 0.0f) || !(wo.z > 0.0f)) return {};
     Vec3 wm = wo + wi;
-    if (glm::dot(wm, wm) == 0.0f) return Color(0.0f);
+    if (glm::dot(wm, wm) == 0.0f) return {};
     wm = glm::normalize(wm);
-    // Single scattering: D F G / (4 cos_o cos_i) (Walter et al. 2007, eq. 20).
-    Color f = ggx_.D(wm) * fresnel_(glm::dot(wo, wm)) * ggx_.G(wo, wi) / (4.0f * wo.z * wi.z);
+    BsdfEval e;
+    // Single scattering: D F G / (4 cos_o cos_i) (Walter et al. 2007, eq. 20); sampled by a
+    // visible normal's density through the Jacobian of reflection 1 / (4 wo.wm) (eq. 14).
+    const float d = ggx_.D(wm);
+    e.f = d * fresnel_(glm::dot(wo, wm)) * ggx_.G(wo, wi) / (4.0f * wo.z * wi.z);
+    e.pdf = ggx_.visibleD(wo, wm) / (4.0f * glm::dot(wo, wm));
     if (multipleScattering_) {
         // (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)): it integrates against cos_i to
-        // 1 - E(mu_o), the energy single scattering lost, and is reciprocal.
+        // 1 - E(mu_o), the energy single scattering lost, and is reciprocal. It is sampled by
+        // the cosine, with probability 1 - E(mu_o).
         const GgxAlbedo& table = GgxAlbedo::get();
-        const float lost = (1.0f - table.albedo(wo.z, roughness_)) *
-                           (1.0f - table.albedo(wi.z, roughness_)) /
-                           (kPi * (1.0f - averageAlbedo_));
-        f += multipleFresnel_ * lost;
+        const float lostO = 1.0f - table.albedo(wo.z, roughness_);
+        const float lostI = 1.0f - table.albedo(wi.z, roughness_);
+        e.f += multipleFresnel_ * (lostO * lostI / (kPi * (1.0f - averageAlbedo_)));
+        e.pdf = (1.0f - lostO) * e.pdf + lostO * cosineHemispherePdf(wi.z);
     }
-    return f;
-}
-
-float Conductor::pdfLocal(const Vec3& wo, const Vec3& wi) const {
-    if (!(wi.z > 0.0f) || !(wo.z > 0.0f)) return 0.0f;
-    Vec3 wm = wo + wi;
-    if (glm::dot(wm, wm) == 0.0f) return 0.0f;
-    wm = glm::normalize(wm);
-    // A visible normal's density, through the Jacobian of reflection 1 / (4 wo.wm) (Walter et al.
-    // 2007, eq. 14).
-    const float pMs = multipleScatteringProbability(wo.z);
-    const float single = ggx_.visibleD(wo, wm) / (4.0f * glm::dot(wo, wm));
-    return (1.0f - pMs) * single + pMs * cosineHemispherePdf(wi.z);
+    return e;
 }
 
 Color Conductor::f(const Vec3& wo, const Vec3& wi, const Vec3& n) const {
     if (isSpecular()) return Color(0.0f);
     const ShadingFrame frame = sideFrame(wo, n);
-    return fLocal(frame.toLocal(wo), frame.toLocal(wi));
+    return evalLocal(frame.toLocal(wo), frame.toLocal(wi)).f;
 }
 
 float Conductor::pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) const {
     if (isSpecular()) return 0.0f;
     const ShadingFrame frame = sideFrame(wo, n);
-    return pdfLocal(frame.toLocal(wo), frame.toLocal(wi));
+    return evalLocal(frame.toLocal(wo), frame.toLocal(wi)).pdf;
 }
 
 std::optional<BsdfSample> Conductor::sample(const Vec3& wo, const Vec3& n, float uc, Vec2 u,
@@ -85,31 +74,25 @@ std::optional<BsdfSample> Conductor::sample(const Vec3& wo, const Vec3& n, float
     if (isSpecular()) {
         SpecularLobe lobe;
         if (specularLobes(wo, n, mode, &lobe) == 0) return std::nullopt;
-        const float cosI = std::abs(glm::dot(lobe.wi, n));
-        if (cosI == 0.0f) return std::nullopt;
-        BsdfSample s;
-        s.wi = lobe.wi;
-        s.f = lobe.weight / cosI;
-        s.pdf = 1.0f;
-        s.weight = lobe.weight;
-        s.specular = true;
-        return s;
+        return specularSample(lobe, n);
     }
     const ShadingFrame frame = sideFrame(wo, n);
     const Vec3 woLocal = frame.toLocal(wo);
     if (!(woLocal.z > 0.0f)) return std::nullopt;
     Vec3 wiLocal;
-    if (uc < multipleScatteringProbability(woLocal.z)) {
+    // The multiple-scattering lobe with probability 1 - E(mu_o), as evalLocal's pdf says.
+    if (multipleScattering_ && uc < 1.0f - GgxAlbedo::get().albedo(woLocal.z, roughness_)) {
         wiLocal = sampleCosineHemisphere(u);
     } else {
         const Vec3 wm = ggx_.sampleVisible(woLocal, u);
         wiLocal = reflect(woLocal, wm);
     }
     if (!(wiLocal.z > 0.0f)) return std::nullopt;
+    const BsdfEval e = evalLocal(woLocal, wiLocal);
+    if (!(e.pdf > 0.0f)) return std::nullopt;
     BsdfSample s;
-    s.f = fLocal(woLocal, wiLocal);
-    s.pdf = pdfLocal(woLocal, wiLocal);
-    if (!(s.pdf > 0.0f)) return std::nullopt;
+    s.f = e.f;
+    s.pdf = e.pdf;
     s.wi = frame.toWorld(wiLocal);
     s.weight = s.f * wiLocal.z / s.pdf;
     return s;

@@ -32,11 +32,9 @@ public:
     static constexpr float kSmoothRoughness = 0.03f;
 
 private:
-    /// f and pdf in the local frame of the side wo is on (wo.z > 0).
-    Color fLocal(const Vec3& wo, const Vec3& wi) const;
-    float pdfLocal(const Vec3& wo, const Vec3& wi) const;
-    /// The probability of sampling the multiple-scattering lobe from wo.
-    float multipleScatteringProbability(float muO) const;
+    /// f and pdf together (they share the half vector and E(mu_o)), in the local frame of the
+    /// side wo is on (wo.z > 0).
+    BsdfEval evalLocal(const Vec3& wo, const Vec3& wi) const;
 
     float roughness_;
     Ggx ggx_;

@@ -4,10 +4,13 @@
 
 namespace caustic {
 
+float dielectricReflectance(FresnelModel model, float cosThetaI, float eta) {
+    return model == FresnelModel::Exact ? fresnelDielectric(cosThetaI, eta)
+                                        : fresnelSchlick(cosThetaI, eta);
+}
+
 float Dielectric::reflectance(const Vec3& wo, const Vec3& n) const {
-    float cosO = glm::dot(wo, n);
-    return fresnel_ == FresnelModel::Exact ? fresnelDielectric(cosO, ior_)
-                                           : fresnelSchlick(cosO, ior_);
+    return dielectricReflectance(fresnel_, glm::dot(wo, n), ior_);
 }
 
 int Dielectric::specularLobes(const Vec3& wo, const Vec3& n, TransportMode mode,
@@ -39,17 +42,10 @@ std::optional<BsdfSample> Dielectric::sample(const Vec3& wo, const Vec3& n, floa
         pick = uc < r ? 0 : 1;
         prob = pick == 0 ? r : 1.0f - r;
     }
-    BsdfSample s;
-    s.wi = lobes[pick].wi;
-    s.pdf = prob;
-    s.weight = lobes[pick].weight / prob;
-    float cosI = std::abs(glm::dot(s.wi, n));
-    s.f = cosI > 0.0f ? lobes[pick].weight / cosI : Color(0.0f);
-    s.specular = true;
+    std::optional<BsdfSample> s = specularSample(lobes[pick], n, prob);
     // Transmitted when wi leaves on the far side of wo.
-    if (glm::dot(s.wi, n) * glm::dot(wo, n) < 0.0f)
-        s.eta = glm::dot(wo, n) > 0.0f ? ior_ : 1.0f / ior_;
-    if (cosI == 0.0f) return std::nullopt;
+    if (s && glm::dot(s->wi, n) * glm::dot(wo, n) < 0.0f)
+        s->eta = glm::dot(wo, n) > 0.0f ? ior_ : 1.0f / ior_;
     return s;
 }
 

@@ -9,6 +9,10 @@ namespace caustic {
 
 enum class FresnelModel { Exact, Schlick };
 
+/// The reflectance of an interface of relative index eta at cosThetaI under `model`
+/// (materials/fresnel.h's conventions: negative from the inside).
+float dielectricReflectance(FresnelModel model, float cosThetaI, float eta);
+
 class Dielectric final : public Material {
 public:
     Dielectric(float ior, FresnelModel fresnel, const Color& tint, const Color& emission)

@@ -25,11 +25,34 @@ struct BsdfSample {
     float eta = 1.0f;
 };
 
+/// A BSDF's value for a pair of directions and the density with which its sampling returns the
+/// second, computed together where they share work (a half vector, a Fresnel term).
+struct BsdfEval {
+    Color f{0.0f};
+    float pdf = 0.0f;
+};
+
 /// One deterministic specular branch (for Whitted tracing): direction and its full weight.
 struct SpecularLobe {
     Vec3 wi;
     Color weight;
 };
+
+/// The sample of a specular lobe chosen with probability `pdf` (1 for the only lobe): its weight
+/// over pdf, and f = the lobe's weight / |cos theta_i| (BsdfSample's convention); nullopt at
+/// grazing incidence, where that is undefined. n: the unit normal.
+inline std::optional<BsdfSample> specularSample(const SpecularLobe& lobe, const Vec3& n,
+                                                float pdf = 1.0f) {
+    const float cosI = std::abs(glm::dot(lobe.wi, n));
+    if (cosI == 0.0f) return std::nullopt;
+    BsdfSample s;
+    s.wi = lobe.wi;
+    s.f = lobe.weight / cosI;
+    s.pdf = pdf;
+    s.weight = lobe.weight / pdf;
+    s.specular = true;
+    return s;
+}
 
 class Material {
 public:

@@ -38,46 +38,41 @@ RoughDielectric::RoughDielectric(float roughness, float ior, FresnelModel fresne
       fresnel_(fresnel),
       tint_(tint) {}
 
-Vec3 RoughDielectric::toLocal(const Vec3& v, const Vec3& n) {
-    return ShadingFrame(n).toLocal(v);
-}
-
-float RoughDielectric::reflectance(float cosThetaI) const {
-    return fresnel_ == FresnelModel::Exact ? fresnelDielectric(cosThetaI, ior_)
-                                           : fresnelSchlick(cosThetaI, ior_);
-}
-
-Color RoughDielectric::fLocal(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+BsdfEval RoughDielectric::evalLocal(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
     const std::optional<HalfVector> h = halfVector(wo, wi, ior_);
-    if (!h) return Color(0.0f);
+    if (!h) return {};
     const float cosO = wo.z, cosI = wi.z;
     const float dotO = glm::dot(wo, h->wm), dotI = glm::dot(wi, h->wm);
-    const float F = reflectance(dotO);
+    const float R = dielectricReflectance(fresnel_, dotO, ior_);
     const float dg = ggx_.D(h->wm) * ggx_.G(wo, wi);
-    if (cosO * cosI > 0.0f) return tint_ * (dg * F / std::abs(4.0f * cosI * cosO));
-    // Walter et al. 2007, eq. 21, with the relative index of the path.
-    const float denom = sqr(dotI + dotO / h->etaPath) * cosI * cosO;
-    float ft = dg * (1.0f - F) * std::abs(dotI * dotO / denom);
-    if (mode == TransportMode::Radiance) ft /= sqr(h->etaPath);
-    return tint_ * ft;
-}
-
-float RoughDielectric::pdfLocal(const Vec3& wo, const Vec3& wi) const {
-    const std::optional<HalfVector> h = halfVector(wo, wi, ior_);
-    if (!h) return 0.0f;
-    const float dotO = glm::dot(wo, h->wm), dotI = glm::dot(wi, h->wm);
-    const float R = reflectance(dotO);
     // The normals visible from wo. From inside, those are the facets whose backs face wo,
     // wo.wm < 0: as many, and as dense, as those -wo sees from outside (G1 and D depend on wo
     // only through its slope).
     const float visible = ggx_.visibleD(wo.z > 0.0f ? wo : -wo, h->wm);
-    if (wo.z * wi.z > 0.0f) return visible / (4.0f * std::abs(dotO)) * R;
-    // The Jacobian of refraction, |wi.wm| / (wi.wm + wo.wm / eta)^2 (Walter et al. 2007, eq. 17).
-    return visible * std::abs(dotI) / sqr(dotI + dotO / h->etaPath) * (1.0f - R);
+    BsdfEval e;
+    if (cosO * cosI > 0.0f) {
+        e.f = tint_ * (dg * R / std::abs(4.0f * cosI * cosO));
+        e.pdf = visible / (4.0f * std::abs(dotO)) * R;
+        return e;
+    }
+    // Walter et al. 2007, eq. 21, with the relative index of the path; sampled through the
+    // Jacobian of refraction, |wi.wm| / (wi.wm + wo.wm / eta)^2 (eq. 17).
+    const float jacobianDenom = sqr(dotI + dotO / h->etaPath);
+    float ft = dg * (1.0f - R) * std::abs(dotI * dotO / (jacobianDenom * cosI * cosO));
+    if (mode == TransportMode::Radiance) ft /= sqr(h->etaPath);
+    e.f = tint_ * ft;
+    e.pdf = visible * std::abs(dotI) / jacobianDenom * (1.0f - R);
+    return e;
+}
+
+Color RoughDielectric::f(const Vec3& wo, const Vec3& wi, const Vec3& n) const {
+    const ShadingFrame frame(n);
+    return evalLocal(frame.toLocal(wo), frame.toLocal(wi), TransportMode::Radiance).f;
 }
 
 float RoughDielectric::pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) const {
-    return pdfLocal(toLocal(wo, n), toLocal(wi, n));
+    const ShadingFrame frame(n);
+    return evalLocal(frame.toLocal(wo), frame.toLocal(wi), TransportMode::Radiance).pdf;
 }
 
 std::optional<BsdfSample> RoughDielectric::sample(const Vec3& wo, const Vec3& n, float uc, Vec2 u,
@@ -88,7 +83,7 @@ std::optional<BsdfSample> RoughDielectric::sample(const Vec3& wo, const Vec3& n,
     // A normal visible from wo (pdfLocal says why -wo's from inside), on the outside's side.
     const bool outside = woLocal.z > 0.0f;
     const Vec3 wm = ggx_.sampleVisible(outside ? woLocal : -woLocal, u);
-    const float R = reflectance(glm::dot(woLocal, wm));
+    const float R = dielectricReflectance(fresnel_, glm::dot(woLocal, wm), ior_);
     Vec3 wiLocal;
     if (uc < R) {
         wiLocal = reflect(woLocal, wm);
@@ -98,10 +93,11 @@ std::optional<BsdfSample> RoughDielectric::sample(const Vec3& wo, const Vec3& n,
         if (!refract(woLocal, wm, ior_, etaPath, wiLocal)) return std::nullopt;
         if (wiLocal.z * woLocal.z >= 0.0f) return std::nullopt;
     }
+    const BsdfEval e = evalLocal(woLocal, wiLocal, mode);
+    if (!(e.pdf > 0.0f) || isBlack(e.f)) return std::nullopt;
     BsdfSample s;
-    s.f = fLocal(woLocal, wiLocal, mode);
-    s.pdf = pdfLocal(woLocal, wiLocal);
-    if (!(s.pdf > 0.0f) || isBlack(s.f)) return std::nullopt;
+    s.f = e.f;
+    s.pdf = e.pdf;
     s.wi = frame.toWorld(wiLocal);
     s.weight = s.f * std::abs(wiLocal.z) / s.pdf;
     if (wiLocal.z * woLocal.z < 0.0f) s.eta = outside ? ior_ : 1.0f / ior_;

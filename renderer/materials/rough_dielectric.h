@@ -19,9 +19,7 @@ public:
     RoughDielectric(float roughness, float ior, FresnelModel fresnel, const Color& tint,
                     const Color& emission);
 
-    Color f(const Vec3& wo, const Vec3& wi, const Vec3& n) const override {
-        return fLocal(toLocal(wo, n), toLocal(wi, n), TransportMode::Radiance);
-    }
+    Color f(const Vec3& wo, const Vec3& wi, const Vec3& n) const override;
     float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) const override;
     /// A visible microfacet normal, then reflection with probability F (its Fresnel term), else
     /// refraction through it; nullopt when the direction falls on the wrong side.
@@ -31,15 +29,16 @@ public:
         return 0;
     }
 
-    /// f in the local frame of the normal, for either transport mode (radiance is scaled by
-    /// 1 / eta^2 through refraction, importance is not: Veach 1997, section 5.2).
-    Color fLocal(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
+    /// f and the density of sampling wi from wo, together (they share the generalized half
+    /// vector and its Fresnel term), in the local frame of the normal, for either transport mode
+    /// (radiance is scaled by 1 / eta^2 through refraction, importance is not: Veach 1997,
+    /// section 5.2).
+    BsdfEval evalLocal(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
+    Color fLocal(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+        return evalLocal(wo, wi, mode).f;
+    }
 
 private:
-    static Vec3 toLocal(const Vec3& v, const Vec3& n);
-    float pdfLocal(const Vec3& wo, const Vec3& wi) const;
-    float reflectance(float cosThetaI) const;
-
     Ggx ggx_;
     float ior_;
     FresnelModel fresnel_;

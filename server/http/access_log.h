@@ -2,8 +2,8 @@
 // answered it (a route, a guard, a static file, an error, an event stream once it ends), with the
 // peer, method, path (no query, no body), status, response bytes ("-" for a streamed body) and
 // milliseconds from routing to the end of the response ("-" for a request refused before routing, a
-// malformed one):
-//   2026-12-01 20:40:00.123 access 127.0.0.1:50312 GET /api/jobs 200 1234 0.4 ms
+// malformed one), after spdlog's local date and time:
+//   <date> <time> access 127.0.0.1:50312 GET /api/jobs 200 1234 0.4 ms
 #pragma once
 
 #include <httplib.h>

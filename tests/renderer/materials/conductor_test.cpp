@@ -11,6 +11,7 @@
 #include "materials/fresnel.h"
 #include "materials/ggx_albedo.h"
 #include "renderer/materials/chi2.h"
+#include "renderer/materials/scattered_energy.h"
 
 namespace caustic {
 namespace {
@@ -25,16 +26,9 @@ const ConductorFresnel kCopper =
     ConductorFresnel::fromComplexIor(Color(0.21f, 1.12f, 1.24f), Color(4.14f, 2.59f, 2.38f));
 const ConductorFresnel kWhite = ConductorFresnel::fromF0(Color(1.0f));
 
-// The mean of f cos / pdf over n samples from wo: the directional albedo.
-Color albedo(const Material& m, const Vec3& wo, int n, uint64_t seed = 7) {
-    Rng rng(seed);
-    Color sum(0.0f);
-    for (int i = 0; i < n; ++i) {
-        const Vec2 u(rng.uniform(), rng.uniform());
-        if (auto s = m.sample(wo, kNormal, rng.uniform(), u, TransportMode::Radiance))
-            sum += s->weight;
-    }
-    return sum / float(n);
+// The directional albedo from wo (the mean of f cos / pdf over n samples).
+float albedo(const Material& m, const Vec3& wo, int n) {
+    return float(testing::scatteredEnergy(m, wo, n, TransportMode::Radiance, 7).total.x);
 }
 
 }  // namespace
@@ -98,8 +92,8 @@ TEST(Conductor, WhiteFurnaceKeepsItsEnergyWithMultipleScattering) {
     for (float r : {0.05f, 0.1f, 0.25f, 0.5f, 0.75f, 1.0f})
         for (double theta : {0.0, 40.0, 70.0, 85.0}) {
             const Vec3 wo = directionAt(theta);
-            const float with = albedo(Conductor(r, kWhite, true, Color(0.0f)), wo, 200000).x;
-            const float without = albedo(Conductor(r, kWhite, false, Color(0.0f)), wo, 200000).x;
+            const float with = albedo(Conductor(r, kWhite, true, Color(0.0f)), wo, 200000);
+            const float without = albedo(Conductor(r, kWhite, false, Color(0.0f)), wo, 200000);
             std::printf(
                 "roughness %.2f, theta %2.0f: albedo %.4f with the lobe, %.4f without "
                 "(table E %.4f)\n",

@@ -10,6 +10,7 @@
 #include "core/rng.h"
 #include "materials/fresnel.h"
 #include "renderer/materials/chi2.h"
+#include "renderer/materials/scattered_energy.h"
 
 namespace caustic {
 namespace {
@@ -99,18 +100,9 @@ TEST(RoughDielectric, ConservesEnergyAndApproachesTheSmoothInterface) {
         for (double theta : {0.0, 45.0, 80.0, 135.0, 170.0}) {
             const RoughDielectric m = glass(r);
             const Vec3 wo = directionAt(theta);
-            Rng rng(11);
-            double total = 0.0, reflected = 0.0;
-            const int n = 200000;
-            for (int i = 0; i < n; ++i) {
-                const Vec2 u(rng.uniform(), rng.uniform());
-                auto s = m.sample(wo, kNormal, rng.uniform(), u, TransportMode::Importance);
-                if (!s) continue;
-                total += s->weight.x;
-                if (s->wi.z * wo.z > 0.0f) reflected += s->weight.x;
-            }
-            total /= n;
-            reflected /= n;
+            const testing::ScatteredEnergy e =
+                testing::scatteredEnergy(m, wo, 200000, TransportMode::Importance, 11);
+            const double total = e.total.x, reflected = e.reflected.x;
             std::printf(
                 "roughness %.2f, theta %3.0f: scattered %.4f (reflected %.4f; smooth %.4f)\n", r,
                 theta, total, reflected, fresnelDielectric(wo.z, 1.5f));
