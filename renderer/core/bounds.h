@@ -30,6 +30,18 @@ struct Bounds3 {
     }
 };
 
+/// The sphere around a scene's bounds, which lights at infinity (directional, environment) send
+/// their photons in through; a unit sphere at the origin for an empty scene.
+inline void sceneBoundingSphere(const Bounds3& b, Vec3& center, float& radius) {
+    radius = 0.5f * std::sqrt(glm::dot(b.diagonal(), b.diagonal()));
+    if (std::isfinite(radius) && radius > 0.0f) {
+        center = b.center();
+    } else {
+        center = Vec3(0.0f);
+        radius = 1.0f;
+    }
+}
+
 /// Relative slack on ray parameters compared across boxes and planes: a rounding error in a plane
 /// crossing must never skip a box the ray enters (pbrt-v3 3.9.2 uses 1 + 2 gamma(3) for box slabs).
 constexpr float kRayBoxSlack = 2.0f * gamma(3);

@@ -25,6 +25,14 @@ inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr float kInvPi = 0.31830988618379067154f;
 inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
+/// Degrees to radians.
+inline constexpr float radians(float degrees) {
+    return degrees * (kPi / 180.0f);
+}
+inline Vec3 radians(const Vec3& degrees) {
+    return degrees * (kPi / 180.0f);
+}
+
 inline float sqr(float x) {
     return x * x;
 }

@@ -82,14 +82,37 @@ void writeImage(const fs::path& file, const RgbImage& image, double exposure) {
     fs::rename(tmp, file);
 }
 
-RgbImage readImage(const fs::path& file) {
+namespace {
+
+std::unique_ptr<OIIO::ImageInput> openImage(const fs::path& file, int64_t maxPixels) {
     auto in = OIIO::ImageInput::open(file.string());
-    if (!in) throw std::runtime_error("cannot read " + file.string() + ": " + OIIO::geterror());
+    if (!in)
+        throw std::runtime_error("cannot read " + file.filename().string() + ": " +
+                                 OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1)
+        throw std::runtime_error(file.filename().string() + " holds no pixels");
+    if (maxPixels > 0 && int64_t(spec.width) * spec.height > maxPixels)
+        throw std::runtime_error(file.filename().string() + " is " + std::to_string(spec.width) +
+                                 " x " + std::to_string(spec.height) +
+                                 " pixels, over the limit of " + std::to_string(maxPixels));
+    return in;
+}
+
+}  // namespace
+
+ImageSize readImageSize(const fs::path& file, int64_t maxPixels) {
+    auto in = openImage(file, maxPixels);
+    return ImageSize{in->spec().width, in->spec().height};
+}
+
+RgbImage readImage(const fs::path& file, int64_t maxPixels) {
+    auto in = openImage(file, maxPixels);
     const OIIO::ImageSpec& spec = in->spec();
     RgbImage image{spec.width, spec.height, {}};
     std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
-        throw std::runtime_error("cannot read " + file.string() + ": " + in->geterror());
+        throw std::runtime_error("cannot read " + file.filename().string() + ": " + in->geterror());
     image.pixels.resize(size_t(spec.width) * spec.height * 3);
     for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
         for (int c = 0; c < 3; ++c)

@@ -1,6 +1,7 @@
 // Image files through OpenImageIO: linear float EXR, and 8-bit PNG with exposure and sRGB encoding.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,8 +27,15 @@ std::string encodeImage(const RgbImage& image, const std::string& format, double
 /// and renames it, so a reader never sees a partial image. Throws std::runtime_error on failure.
 void writeImage(const std::filesystem::path& file, const RgbImage& image, double exposure = 0.0);
 
-/// Reads an image's first three channels as float (linear for EXR; PNG values are decoded as
-/// stored, 0..1). Throws std::runtime_error on failure.
-RgbImage readImage(const std::filesystem::path& file);
+/// Reads an image's first three channels as float (linear for EXR and HDR; PNG values are decoded
+/// as stored, 0..1). With maxPixels > 0, an image of more pixels is refused from its header,
+/// before its pixels are read. Throws std::runtime_error on failure.
+RgbImage readImage(const std::filesystem::path& file, int64_t maxPixels = 0);
+
+struct ImageSize {
+    int width = 0, height = 0;
+};
+/// An image's size from its header alone, refused as readImage does.
+ImageSize readImageSize(const std::filesystem::path& file, int64_t maxPixels = 0);
 
 }  // namespace caustic

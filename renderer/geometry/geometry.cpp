@@ -51,9 +51,29 @@ uint32_t Geometry::addQuad(const Vec3& origin, const Vec3& u, const Vec3& v, uin
     return push(PrimKind::Quad, static_cast<uint32_t>(quads_.size() - 1), material);
 }
 
+namespace {
+
+// Appends a mesh's per-vertex attribute, or zeros for a mesh without it once any mesh has it.
+template <typename T>
+void appendAttribute(std::vector<T>& all, const std::vector<T>& mesh, size_t base, size_t count) {
+    CAUSTIC_CHECK(mesh.empty() || mesh.size() == count);
+    if (mesh.empty() && all.empty()) return;
+    all.resize(base, T(0.0f));
+    if (mesh.empty())
+        all.resize(base + count, T(0.0f));
+    else
+        all.insert(all.end(), mesh.begin(), mesh.end());
+}
+
+}  // namespace
+
 uint32_t Geometry::addTriangles(const std::vector<Vec3>& positions,
-                                const std::vector<glm::uvec3>& triangles, uint32_t material) {
+                                const std::vector<glm::uvec3>& triangles, uint32_t material,
+                                const std::vector<Vec3>& normals,
+                                const std::vector<Vec2>& texcoords) {
     auto base = static_cast<uint32_t>(positions_.size());
+    appendAttribute(normals_, normals, base, positions.size());
+    appendAttribute(texcoords_, texcoords, base, positions.size());
     positions_.insert(positions_.end(), positions.begin(), positions.end());
     uint32_t first = size();
     for (const glm::uvec3& t : triangles) {
@@ -146,6 +166,7 @@ void Geometry::finish(uint32_t prim, const Ray& ray, const PrimHit& h, Hit& hit)
 SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {
     SurfaceInteraction si;
     si.n = hit.n;
+    si.ns = hit.n;
     si.uv = hit.uv;
     si.prim = hit.prim;
     const PrimRecord r = prims_[hit.prim];
@@ -161,16 +182,22 @@ SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {
             Vec3 p0, p1, p2;
             quadTriangle(quads_[i], second, p0, p1, p2);
             triangleHitPoint(b, p0, p1, p2, si.p, si.pError);
+            si.texcoord = hit.uv;
             break;
         }
         case PrimKind::Triangle: {
-            Vec3 p0, p1, p2;
-            triangleVertices(i, p0, p1, p2);
+            const glm::uvec3& t = triangles_[i];
+            const Vec3 p[3] = {positions_[t.x], positions_[t.y], positions_[t.z]};
             TriangleHit b{1.0f - hit.uv.x - hit.uv.y, hit.uv.x, hit.uv.y, hit.t};
-            triangleHitPoint(b, p0, p1, p2, si.p, si.pError);
+            triangleHitPoint(b, p[0], p[1], p[2], si.p, si.pError);
+            if (!normals_.empty() || !texcoords_.empty()) {
+                smoothTriangle(t, b, p, si);
+                return si;
+            }
             break;
         }
     }
+    si.pShading = si.p;
     return si;
 }
 
@@ -223,7 +250,35 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
     return s;
 }
 
+void Geometry::smoothTriangle(const glm::uvec3& t, const TriangleHit& b, const Vec3 p[3],
+                              SurfaceInteraction& si) const {
+    si.pShading = si.p;
+    if (!texcoords_.empty())
+        si.texcoord = b.b0 * texcoords_[t.x] + b.b1 * texcoords_[t.y] + b.b2 * texcoords_[t.z];
+    if (normals_.empty()) return;
+    const Vec3 vn[3] = {normals_[t.x], normals_[t.y], normals_[t.z]};
+    const Vec3 ns = b.b0 * vn[0] + b.b1 * vn[1] + b.b2 * vn[2];
+    const float length = glm::length(ns);
+    // A mesh without normals among meshes with them, or normals that cancel: flat.
+    if (!(length > 1e-6f) || !std::isfinite(length)) return;
+    // Vertex normals may face the back of the winding: the shading normal joins n's side.
+    const float side = glm::dot(ns, si.n) < 0.0f ? -1.0f : 1.0f;
+    si.ns = ns * (side / length);
+    // Hanika 2021: the hit point moved off each vertex's tangent plane when below it, weighted by
+    // the barycentrics: the point on the smooth surface the vertex normals describe.
+    const float w[3] = {b.b0, b.b1, b.b2};
+    Vec3 lifted(0.0f);
+    for (int k = 0; k < 3; ++k) {
+        const Vec3 normal = side * vn[k];
+        const Vec3 d = si.p - p[k];
+        lifted += w[k] * (si.p - std::min(0.0f, glm::dot(d, normal)) * normal);
+    }
+    if (isFinite(lifted)) si.pShading = lifted;
+}
+
 void Geometry::shrinkToFit() {
+    normals_.shrink_to_fit();
+    texcoords_.shrink_to_fit();
     prims_.shrink_to_fit();
     spheres_.shrink_to_fit();
     quads_.shrink_to_fit();

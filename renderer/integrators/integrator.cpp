@@ -6,13 +6,14 @@
 #include "integrators/photon.h"
 #include "integrators/raycast.h"
 #include "integrators/whitted.h"
+#include "materials/surface_bsdf.h"
 #include "render/settings.h"
 
 namespace caustic {
 
 bool Integrator::unoccluded(const SurfaceInteraction& si, const LightSample& ls,
                             SampleContext& ctx) const {
-    Vec3 from = offsetRayOrigin(si.p, si.pError, si.n, ls.wi);
+    Vec3 from = rayOrigin(si, ls.wi);
     // Offset the far end too, off the emitter's surface towards the receiver.
     Vec3 to = glm::dot(ls.at.n, ls.at.n) > 0.0f
                   ? offsetRayOrigin(ls.at.p, ls.at.pError, ls.at.n, from - ls.at.p)
@@ -32,13 +33,13 @@ Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo
     if (!chosen) return Color(0.0f);
     std::optional<LightSample> ls = chosen->light->sampleLi(si, u);
     if (!ls || isBlack(ls->Li)) return Color(0.0f);
-    Color f = m.f(wo, ls->wi, si.n);
+    const SurfaceBsdf bsdf(m, si);
+    Color f = bsdf.f(wo, ls->wi);
     if (isBlack(f) || !unoccluded(si, *ls, ctx)) return Color(0.0f);
     float lightPdf = ls->pdf * chosen->pmf;
     float weight = 1.0f;
-    if (mis && !chosen->light->isDelta())
-        weight = powerHeuristic(lightPdf, m.pdf(wo, ls->wi, si.n));
-    return f * ls->Li * (std::abs(glm::dot(ls->wi, si.n)) * weight / lightPdf);
+    if (mis && !chosen->light->isDelta()) weight = powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
+    return f * ls->Li * (bsdf.absCos(ls->wi) * weight / lightPdf);
 }
 
 const std::vector<std::string>& integratorNames() {

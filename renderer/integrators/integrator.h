@@ -76,7 +76,7 @@ protected:
     /// A ray leaving surface point si in unit direction w, offset past the surface's rounding
     /// error.
     static Ray spawnRay(const SurfaceInteraction& si, const Vec3& w) {
-        return Ray{offsetRayOrigin(si.p, si.pError, si.n, w), w};
+        return Ray{rayOrigin(si, w), w};
     }
     /// Whether nothing blocks the segment from si to the light sample's point.
     bool unoccluded(const SurfaceInteraction& si, const LightSample& ls, SampleContext& ctx) const;

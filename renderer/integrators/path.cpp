@@ -1,6 +1,7 @@
 #include "integrators/path.h"
 
 #include "core/sampling.h"
+#include "materials/surface_bsdf.h"
 
 namespace caustic {
 
@@ -56,6 +57,12 @@ float PathIntegrator::emissionWeight(const LightSampleContext& from, float bsdfP
     return powerHeuristic(bsdfPdf, light->pmf * light->light->pdfLi(from, at));
 }
 
+float PathIntegrator::environmentWeight(float bsdfPdf, const Vec3& d) const {
+    if (!settings_.lightSampling) return 1.0f;
+    if (!settings_.mis) return 0.0f;
+    return powerHeuristic(bsdfPdf, scene_.environmentPmf() * scene_.environment->pdfDirection(d));
+}
+
 Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
     Color L(0.0f), beta(1.0f);
     // The product of eta^2 over the path's refractions: beta * etaScale is the throughput without
@@ -80,6 +87,10 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         if (!hit) {
             // The background is not sampled as a light: BSDF sampling finds it with weight 1.
             L += beta * scene_.background;
+            if (scene_.environment && !(specularBounce && mappedCaustics)) {
+                float w = specularBounce ? 1.0f : environmentWeight(bsdfPdf, ray.d);
+                L += beta * scene_.environment->Le(ray.d) * w;
+            }
             break;
         }
         SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
@@ -115,7 +126,8 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
 
         float uc = ctx.sampler.uniform();
         Vec2 u = ctx.sampler.uniform2();
-        std::optional<BsdfSample> bs = m.sample(wo, si.n, uc, u, TransportMode::Radiance);
+        std::optional<BsdfSample> bs =
+            SurfaceBsdf(m, si).sample(wo, uc, u, TransportMode::Radiance);
         if (!bs || isBlack(bs->weight)) break;
         beta *= bs->weight;
         etaScale *= sqr(bs->eta);

@@ -60,6 +60,8 @@ private:
     /// hit emitter `at`.
     float emissionWeight(const LightSampleContext& from, float bsdfPdf,
                          const SurfaceInteraction& at) const;
+    /// The same for the environment's radiance found by a ray that left the scene along d.
+    float environmentWeight(float bsdfPdf, const Vec3& d) const;
 
     int maxDepth_;
     Settings settings_;

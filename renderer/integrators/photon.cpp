@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "materials/surface_bsdf.h"
 
 namespace caustic {
 
@@ -134,7 +135,8 @@ std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Co
         if (!m.isSpecular()) return si;
         float uc = ctx.sampler.uniform();
         Vec2 u = ctx.sampler.uniform2();
-        std::optional<BsdfSample> bs = m.sample(-ray.d, si.n, uc, u, TransportMode::Radiance);
+        std::optional<BsdfSample> bs =
+            SurfaceBsdf(m, si).sample(-ray.d, uc, u, TransportMode::Radiance);
         if (!bs || isBlack(bs->weight)) return std::nullopt;
         beta *= bs->weight;
         ray = spawnRay(si, bs->wi);
@@ -148,7 +150,7 @@ Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, cons
     for (int g = 0; g < settings_.finalGather; ++g) {
         float uc = ctx.sampler.uniform();
         Vec2 u = ctx.sampler.uniform2();
-        std::optional<BsdfSample> bs = m.sample(wo, x.n, uc, u, TransportMode::Radiance);
+        std::optional<BsdfSample> bs = SurfaceBsdf(m, x).sample(wo, uc, u, TransportMode::Radiance);
         if (!bs || isBlack(bs->weight)) continue;
         Color beta = bs->weight;
         bool escaped = false;
@@ -168,7 +170,7 @@ Color PhotonIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
     Ray in = ray;
     int bounces = 0;
     std::optional<SurfaceInteraction> x = firstDiffuseHit(in, beta, escaped, ctx, &bounces);
-    if (!x) return escaped ? beta * scene_.background : Color(0.0f);
+    if (!x) return escaped ? beta * scene_.escapedRadiance(in.d) : Color(0.0f);
 
     const Material& m = *scene_.materials[x->material];
     Vec3 wo = -in.d;

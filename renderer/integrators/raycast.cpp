@@ -4,7 +4,7 @@ namespace caustic {
 
 Color RayCastIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
     std::optional<Hit> hit = intersect(ray, ctx);
-    if (!hit) return scene_.background;
+    if (!hit) return scene_.escapedRadiance(ray.d);
     SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
     const Material& m = *scene_.materials[si.material];
     Vec3 wo = -ray.d;

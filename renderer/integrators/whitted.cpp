@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "materials/surface_bsdf.h"
+
 namespace caustic {
 
 Color WhittedIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
@@ -24,7 +26,7 @@ Color WhittedIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         if (ctx.interrupted()) break;
         std::optional<Hit> hit = intersect(b.ray, ctx);
         if (!hit) {
-            L += b.weight * scene_.background;
+            L += b.weight * scene_.escapedRadiance(b.ray.d);
             continue;
         }
         SurfaceInteraction si = scene_.geometry.interaction(b.ray, *hit);
@@ -40,7 +42,7 @@ Color WhittedIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         // Follow every specular lobe.
         if (b.depth >= maxDepth_) continue;
         SpecularLobe lobes[2];
-        int count = m.specularLobes(wo, si.n, TransportMode::Radiance, lobes);
+        int count = SurfaceBsdf(m, si).specularLobes(wo, TransportMode::Radiance, lobes);
         // Pushed in reverse, so the first lobe is followed first, as a recursive trace would.
         for (int i = count - 1; i >= 0; --i)
             if (!isBlack(lobes[i].weight))

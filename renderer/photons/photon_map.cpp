@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "materials/surface_bsdf.h"
 #include "photons/brute_force_neighbors.h"
 
 namespace caustic {
@@ -92,16 +93,20 @@ Color PhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo, const M
     // A Lambertian f is the same for every photon on wo's side (Diffuse::f's test) and zero for
     // the others: it is applied once, to the sum.
     const std::optional<Color> lambertian = m.lambertian();
-    const float side = glm::dot(wo, si.n);
+    const SurfaceBsdf bsdf(m, si);
+    const Vec3& ns = bsdf.shadingNormal();
+    const float side = glm::dot(wo, ns);
     Color L(0.0f);
     for (const Neighbor& n : scratch) {
         const Photon& p = photons_[n.id];
         if (!(mask & maskOf(p.path)) || p.bounces > estimate.maxBounces) continue;
         const float w = kernel(estimate.kernel, n.dist2, r2);
-        // f is zero for a photon from the other side of a thin surface: it lights only its side.
+        // A photon that landed on the other side of a thin surface reaches this side only by
+        // transmission, whatever a shading normal says.
+        if (!bsdf.agreesWithGeometry(wo, p.wi)) continue;
         if (!lambertian)
-            L += m.f(wo, p.wi, si.n) * p.power * w;
-        else if (side * glm::dot(p.wi, si.n) > 0.0f)
+            L += bsdf.f(wo, p.wi) * p.power * w;
+        else if (side * glm::dot(p.wi, ns) > 0.0f)
             L += p.power * w;
     }
     return lambertian ? *lambertian * L : L;

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/rng.h"
+#include "materials/surface_bsdf.h"
 
 namespace caustic {
 namespace {
@@ -57,7 +58,8 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
         }
         float uc = rng.uniform();
         Vec2 u = rng.uniform2();
-        std::optional<BsdfSample> bs = m.sample(wo, si.n, uc, u, TransportMode::Importance);
+        std::optional<BsdfSample> bs =
+            SurfaceBsdf(m, si).sample(wo, uc, u, TransportMode::Importance);
         if (!bs || isBlack(bs->weight)) return;
         // Russian roulette on the change of throughput, so a photon keeps its power while it can
         // (pbrt-v4 15.1, SPPM photon pass).
@@ -66,7 +68,7 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
         if (!(rng.uniform() < q)) return;
         beta = next / q;
         specularOnly = specularOnly && bs->specular;
-        ray = Ray{offsetRayOrigin(si.p, si.pError, si.n, bs->wi), bs->wi};
+        ray = Ray{rayOrigin(si, bs->wi), bs->wi};
     }
 }
 

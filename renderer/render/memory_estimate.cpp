@@ -58,6 +58,7 @@ struct Counts {
     uint64_t prims = 0, vertices = 0, triangles = 0;
     uint64_t lights = 0, emitters = 0;  // emitters: emissive primitives, each an area light
     bool emits = false;                 // a light of nonzero power exists
+    uint64_t normals = 0;               // vertex normals
 };
 
 Counts countScene(const Scene& scene) {
@@ -68,9 +69,11 @@ Counts countScene(const Scene& scene) {
              scene.lights.size(),
              scene.emitterPrims.size(),
              !scene.lightSampler.empty()};
+    c.normals = g.hasVertexNormals() ? g.positions().size() : 0;
     for (const Scene::CountedMesh& mesh : scene.countedMeshes) {
         c.prims += mesh.counts.triangles;
         c.vertices += mesh.counts.vertices;
+        if (mesh.counts.normals) c.normals += mesh.counts.vertices;
         c.triangles += mesh.counts.triangles;
         if (scene.materials[mesh.material]->isEmissive()) {
             c.lights += mesh.counts.triangles;
@@ -85,7 +88,7 @@ size_t geometryBytes(const Scene& scene, const Counts& c) {
     // The loader shrinks every array to its size (Geometry::shrinkToFit).
     return c.prims * sizeof(Geometry::PrimRecord) +
            scene.geometry.spheres().size() * sizeof(Sphere) +
-           scene.geometry.quads().size() * sizeof(Quad) + c.vertices * sizeof(Vec3) +
+           scene.geometry.quads().size() * sizeof(Quad) + (c.vertices + c.normals) * sizeof(Vec3) +
            c.triangles * sizeof(glm::uvec3);
 }
 
@@ -148,7 +151,7 @@ MemoryEstimate estimateMemory(const Scene& scene, const RenderSettings& settings
     e.geometry = geometryBytes(scene, c);
     e.accelerator = acceleratorBytes(settings.accelerator, c);
     e.film = filmBytes(scene.camera.width(), scene.camera.height(), settings.adaptive);
-    e.lightTables = lightTableBytes(c);
+    e.lightTables = lightTableBytes(c) + scene.environmentBytes;
     e.photonMaps = photonPeakBytes(scene, settings, c);
     return e;
 }

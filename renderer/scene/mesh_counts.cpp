@@ -1,5 +1,6 @@
 #include "scene/mesh_counts.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -56,6 +57,7 @@ private:
                 return;
             case State::AfterV:  // "v x y z"; "vn", "vt" and "vp" are other records
                 if (space(c)) ++counts_.vertices;
+                if (c == 'n') counts_.normals = true;
                 state_ = c == '\n' ? State::LineStart : State::SkipLine;
                 return;
             case State::AfterF:
@@ -99,6 +101,8 @@ MeshCounts countObj(const fs::path& file, const std::string& path) {
     if (std::ferror(in.get())) throw InputError(path, "cannot read OBJ file " + name);
     MeshCounts counts = scanner.finish();
     if (counts.triangles == 0) throw InputError(path, name + " has no faces");
+    // A face of k corners makes k - 2 triangles: at most 3 corners a triangle.
+    if (counts.normals) counts.vertices = std::max(counts.vertices, 3 * counts.triangles);
     return counts;
 }
 

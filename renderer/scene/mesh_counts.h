@@ -13,8 +13,11 @@
 namespace caustic {
 
 struct MeshCounts {
-    uint64_t vertices = 0;   ///< `v` lines: the positions loadObj keeps.
+    /// `v` lines: the positions loadObj keeps; with normals, a bound on the vertices it makes
+    /// (one per face corner at most: an OBJ indexes positions and normals apart).
+    uint64_t vertices = 0;
     uint64_t triangles = 0;  ///< Triangles of the `f` lines once triangulated.
+    bool normals = false;    ///< Vertex normals (`vn` lines), a Vec3 a vertex more.
 };
 
 /// Counts the `v` lines and the triangles of the `f` lines of an OBJ file: a face of n corners

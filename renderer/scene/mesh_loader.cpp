@@ -3,6 +3,8 @@
 #include <tiny_obj_loader.h>
 
 #include <fstream>
+#include <map>
+#include <utility>
 
 #include "core/error.h"
 
@@ -10,17 +12,37 @@ namespace caustic {
 
 namespace fs = std::filesystem;
 
-Vec3 MeshTransform::apply(const Vec3& p) const {
-    Vec3 q = p * scale;
-    const Vec3 r = rotateDegrees * (kPi / 180.0f);
-    // Rotate about x, then y, then z (right-handed, counter-clockwise looking down the axis).
+namespace {
+void addObjVertexAttributes(const tinyobj::attrib_t& attrib,
+                            const std::vector<tinyobj::shape_t>& shapes,
+                            const MeshTransform& transform, const std::string& name,
+                            const std::string& path, TriangleMesh& mesh);
+}  // namespace
+
+namespace {
+
+// Rotations about x, then y, then z by r radians (right-handed, counter-clockwise looking down the
+// axis).
+Vec3 rotateXyz(Vec3 q, const Vec3& r) {
     q = Vec3(q.x, q.y * std::cos(r.x) - q.z * std::sin(r.x),
              q.y * std::sin(r.x) + q.z * std::cos(r.x));
     q = Vec3(q.x * std::cos(r.y) + q.z * std::sin(r.y), q.y,
              -q.x * std::sin(r.y) + q.z * std::cos(r.y));
     q = Vec3(q.x * std::cos(r.z) - q.y * std::sin(r.z), q.x * std::sin(r.z) + q.y * std::cos(r.z),
              q.z);
-    return q + translate;
+    return q;
+}
+
+}  // namespace
+
+Vec3 MeshTransform::apply(const Vec3& p) const {
+    return rotateXyz(p * scale, radians(rotateDegrees)) + translate;
+}
+
+Vec3 MeshTransform::applyToNormal(const Vec3& n) const {
+    const Vec3 q = rotateXyz(n / scale, radians(rotateDegrees));
+    const float length = glm::length(q);
+    return length > 0.0f && std::isfinite(length) ? q / length : Vec3(0.0f);
 }
 
 fs::path resolveAsset(const fs::path& assetsDir, const std::string& name, const std::string& path) {
@@ -81,6 +103,8 @@ TriangleMesh parseObj(std::istream& in, const std::string& name, const MeshTrans
                              "vertex " + std::to_string(i + 1) + " of " + name + " is not finite");
         mesh.positions.push_back(p);
     }
+    // Texture coordinates (`vt`) are not kept: no material reads them yet.
+    const bool smooth = !attrib.normals.empty();
     for (const tinyobj::shape_t& shape : shapes) {
         const std::vector<tinyobj::index_t>& idx = shape.mesh.indices;
         for (size_t f = 0; f + 2 < idx.size(); f += 3) {
@@ -91,7 +115,51 @@ TriangleMesh parseObj(std::istream& in, const std::string& name, const MeshTrans
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, name + " has no faces");
+    if (smooth) addObjVertexAttributes(attrib, shapes, transform, name, path, mesh);
     return mesh;
 }
+
+namespace {
+
+void addObjVertexAttributes(const tinyobj::attrib_t& attrib,
+                            const std::vector<tinyobj::shape_t>& shapes,
+                            const MeshTransform& transform, const std::string& name,
+                            const std::string& path, TriangleMesh& mesh) {
+    // OBJ indexes positions and normals apart ("f 1//4"); a vertex here is each distinct pair, in
+    // order of first use. A corner without a normal gets zero (flat shading there).
+    const size_t normalCount = attrib.normals.size() / 3;
+    std::map<std::pair<int, int>, uint32_t> vertexOf;
+    std::vector<Vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    auto vertex = [&](const tinyobj::index_t& i) {
+        if (i.normal_index >= 0 && size_t(i.normal_index) >= normalCount)
+            throw InputError(path, name + " has a face index out of range");
+        auto [it, added] =
+            vertexOf.try_emplace({i.vertex_index, i.normal_index}, uint32_t(positions.size()));
+        if (!added) return it->second;
+        positions.push_back(mesh.positions[size_t(i.vertex_index)]);
+        Vec3 n(0.0f);
+        if (i.normal_index >= 0) {
+            const float* a = &attrib.normals[3 * size_t(i.normal_index)];
+            n = transform.applyToNormal(Vec3(a[0], a[1], a[2]));
+        }
+        if (!isFinite(n)) throw InputError(path, "a normal of " + name + " is not finite");
+        mesh.normals.push_back(n);
+        return it->second;
+    };
+    for (const tinyobj::shape_t& shape : shapes) {
+        const std::vector<tinyobj::index_t>& idx = shape.mesh.indices;
+        for (size_t f = 0; f + 2 < idx.size(); f += 3) {
+            // One statement a corner: the order of first use numbers the vertices.
+            glm::uvec3 t;
+            for (int c = 0; c < 3; ++c) t[c] = vertex(idx[f + size_t(c)]);
+            triangles.push_back(t);
+        }
+    }
+    mesh.positions = std::move(positions);
+    mesh.triangles = std::move(triangles);
+}
+
+}  // namespace
 
 }  // namespace caustic

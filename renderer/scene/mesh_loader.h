@@ -15,6 +15,10 @@ namespace caustic {
 struct TriangleMesh {
     std::vector<Vec3> positions;
     std::vector<glm::uvec3> triangles;  ///< Counter-clockwise index triples.
+    /// Per position, when the file has them (else empty): unit vertex normals, already
+    /// transformed, and texture coordinates.
+    std::vector<Vec3> normals;
+    std::vector<Vec2> texcoords;
 };
 
 /// Scale, then rotations about x, y and z in degrees, then translation.
@@ -23,6 +27,9 @@ struct MeshTransform {
     Vec3 rotateDegrees{0.0f};
     Vec3 translate{0.0f};
     Vec3 apply(const Vec3& p) const;
+    /// A normal under the same transform (the inverse transpose: the scale divides), unit length;
+    /// zero for a zero normal.
+    Vec3 applyToNormal(const Vec3& n) const;
 };
 
 /// Resolves `name` inside `assetsDir`: relative, no ".." component, no escape through links; it

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/geometry.h"
+#include "lights/environment_light.h"
 #include "lights/light.h"
 #include "lights/light_sampler.h"
 #include "materials/material.h"
@@ -35,6 +36,13 @@ struct Scene {
     std::vector<uint32_t> emitterPrims;
     size_t firstAreaLight = 0;
     Color background{0.0f};
+    /// The environment light ("environment"), also in `lights` at environmentIndex; null when the
+    /// scene has none.
+    const EnvironmentLight* environment = nullptr;
+    size_t environmentIndex = 0;
+    /// Bytes of the environment's image and sampling density (from its size alone when the scene
+    /// was loaded for admission).
+    size_t environmentBytes = 0;
     /// The scene file's "settings" object: defaults a job's own settings override.
     nlohmann::json settings = nlohmann::json::object();
     /// With SceneOptions::countMeshesOnly, the meshes validated but not loaded: their counts and
@@ -46,13 +54,22 @@ struct Scene {
     };
     std::vector<CountedMesh> countedMeshes;
 
+    /// Radiance of a ray that leaves the scene along unit direction d: the background's and the
+    /// environment's.
+    Color escapedRadiance(const Vec3& d) const {
+        return environment ? background + environment->Le(d) : background;
+    }
+    /// The probability that the light sampler picks the environment (0 without one).
+    float environmentPmf() const { return environment ? lightSampler.pmf(environmentIndex) : 0.0f; }
+
     const Material& material(uint32_t prim) const { return *materials[geometry.material(prim)]; }
     /// The area light of an emissive primitive and the probability that the light sampler picks
     /// it; nullopt for a primitive that does not emit.
     std::optional<SampledLight> areaLightOf(uint32_t prim) const;
-    /// Bytes of the light tables: the sampler and the primitive-to-light index.
+    /// Bytes of the light tables: the sampler, the primitive-to-light index and the environment.
     size_t lightTableBytes() const {
-        return lightSampler.memoryBytes() + emitterPrims.capacity() * sizeof(uint32_t);
+        return lightSampler.memoryBytes() + emitterPrims.capacity() * sizeof(uint32_t) +
+               environmentBytes;
     }
 };
 

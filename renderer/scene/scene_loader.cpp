@@ -6,13 +6,13 @@
 
 #include "core/error.h"
 #include "lights/area_light.h"
-#include "lights/point_light.h"
 #include "materials/conductor.h"
 #include "materials/dielectric.h"
 #include "materials/diffuse.h"
 #include "materials/mirror.h"
 #include "materials/rough_dielectric.h"
 #include "scene/json_reader.h"
+#include "scene/light_loader.h"
 #include "scene/mesh_file.h"
 #include "scene/mesh_loader.h"
 #include "scene/scene.h"
@@ -22,28 +22,6 @@ namespace {
 
 const std::vector<std::string> kMaterialTypes{"diffuse", "mirror", "dielectric", "conductor"};
 const std::vector<std::string> kShapeTypes{"sphere", "quad", "triangle", "mesh"};
-const std::vector<std::string> kLightTypes{"point"};
-
-// Positions are stored relative to the camera: the loader subtracts the camera's position in double
-// before anything is rounded to float. Rendering is invariant under translation, and a scene 1e5
-// from the origin then keeps every bit of precision near the camera (camera-relative rendering),
-// where a float at 1e5 would hold positions only to 0.008.
-struct Frame {
-    DVec3 origin{0.0};
-
-    Vec3 point(const Json& j, const std::string& path) const {
-        DVec3 p = readDVec3(j, path) - origin;
-        for (int i = 0; i < 3; ++i)
-            if (!(std::abs(p[i]) <= 3.0e38))
-                throw InputError(
-                    jsonPointer(path, size_t(i)),
-                    "is out of the range of a float (|x| <= 3e38) relative to the camera");
-        return Vec3(p);
-    }
-    Vec3 point(JsonObject& o, const std::string& key) const {
-        return point(o.require(key), o.pathOf(key));
-    }
-};
 
 // A reflectance in [0, 1] per channel: anything above 1 would create energy.
 Color readReflectance(JsonObject& o, const std::string& key, const Color& fallback) {
@@ -191,7 +169,8 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
             scene.countedMeshes.push_back({counts, material});
         } else {
             TriangleMesh mesh = loadObj(full, transform, at);
-            scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
+            scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals,
+                                        mesh.texcoords);
         }
         return;
     }
@@ -209,7 +188,8 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
     }
     if (!asset.bytes) throw InputError(at, "the asset store gave no bytes for asset " + name);
     TriangleMesh mesh = parseMeshBytes(*asset.bytes, asset.format, transform, "asset " + name, at);
-    scene.geometry.addTriangles(mesh.positions, mesh.triangles, material);
+    scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals,
+                                mesh.texcoords);
 }
 
 void readShape(const Json& j, const std::string& path, Scene& scene, const SceneOptions& options,
@@ -244,15 +224,6 @@ void readShape(const Json& j, const std::string& path, Scene& scene, const Scene
         readMesh(o, material, scene, options, frame);
     }
     o.finish();
-}
-
-void readLight(const Json& j, const std::string& path, Scene& scene, const Frame& frame) {
-    JsonObject o(j, path);
-    o.choice("type", kLightTypes);
-    Vec3 position = frame.point(o, "position");
-    Color intensity = o.color("intensity");
-    o.finish();
-    scene.lights.push_back(std::make_unique<PointLight>(position, intensity));
 }
 
 const Json& requireArray(JsonObject& o, const std::string& key) {
@@ -295,10 +266,18 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
     for (size_t i = 0; i < shapes.size(); ++i)
         readShape(shapes[i], jsonPointer("/shapes", i), *scene, options, frame);
 
+    // Lights at infinity (directional, environment) send photons in through the scene's
+    // bounding sphere.
+    const Bounds3 bounds = scene->geometry.bounds();
     if (root.find("lights")) {
         const Json& lights = requireArray(root, "lights");
         for (size_t i = 0; i < lights.size(); ++i)
-            readLight(lights[i], jsonPointer("/lights", i), *scene, frame);
+            readLight(lights[i], jsonPointer("/lights", i), frame, bounds, *scene);
+    }
+    if (const Json* environment = root.find("environment")) {
+        if (root.find("background"))
+            throw InputError("/background", "give either background or environment, not both");
+        readEnvironment(*environment, "/environment", options, bounds, *scene);
     }
     scene->background = root.color("background", Color(0.0f));
     if (const Json* settings = root.find("settings")) {

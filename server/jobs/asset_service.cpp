@@ -211,6 +211,8 @@ MeshAssetResolver storedAssets(JobStore& store) {
         asset.format = meshFormatNamed(stored->format).value_or(MeshFormat::Obj);
         asset.counts.vertices = uint64_t(stored->vertices);
         asset.counts.triangles = uint64_t(stored->triangles);
+        // The store keeps no record of vertex normals: budgeted as if the mesh had them.
+        asset.counts.normals = true;
         if (needBytes) {
             std::shared_ptr<const std::string>& bytes = (*read)[id];
             if (!bytes) bytes = store.assetBytes(id);

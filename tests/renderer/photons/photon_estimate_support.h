@@ -43,7 +43,8 @@ inline SurfaceInteraction planePoint(double x, double z) {
     SurfaceInteraction si;
     si.p = Vec3(float(x), 0.0f, float(z));
     si.pError = Vec3(0.0f);
-    si.n = Vec3(0.0f, 1.0f, 0.0f);
+    si.n = si.ns = Vec3(0.0f, 1.0f, 0.0f);
+    si.pShading = si.p;
     return si;
 }
 inline const Vec3 kUp(0.0f, 1.0f, 0.0f);

@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <tuple>
 
 #include "accel/accelerator.h"
 #include "photons/photon_tracer.h"
@@ -65,6 +66,35 @@ TEST(PhotonTracer, EmittedFluxIsTheLightsPower) {
         }
         double se = std::sqrt((secondMoment - total[c] * total[c]) / double(n));
         EXPECT_NEAR(m.emittedPower[c], total[c], 5 * se + 1e-5 * total[c]) << "channel " << c;
+    }
+}
+
+// Lights at infinity send photons in through a disk around the scene: the flux that lands on a
+// floor of area A is E cos(theta) A from a directional light, and pi Le A on each side from a
+// constant environment.
+TEST(PhotonTracer, LightsAtInfinityDeliverTheirIrradiance) {
+    const json floor = json::parse(R"({
+      "camera": {"position": [0, 5, 5], "look_at": [0, 0, 0]},
+      "materials": {"black": {"type": "diffuse", "albedo": [0, 0, 0]}},
+      "shapes": [{"type": "quad", "origin": [-1, 0, -2], "u": [0, 0, 4], "v": [2, 0, 0],
+                  "material": "black"}]
+    })");
+    const double area = 8.0;
+    json sun = floor, sky = floor;
+    sun["lights"] = json::parse(R"([{"type": "directional", "direction": [0.6, -0.8, 0],
+                                     "irradiance": [2, 1, 0.5]}])");
+    sky["environment"] = {{"color", {0.5, 1, 2}}};
+    const DVec3 expectedSun = DVec3(2, 1, 0.5) * 0.8 * area;
+    const DVec3 expectedSky = DVec3(0.5, 1, 2) * (2.0 * kPi * area);
+    for (const auto& [doc, expected, tolerance] :
+         {std::tuple{sun, expectedSun, 0.015}, std::tuple{sky, expectedSky, 0.02}}) {
+        auto scene = sceneFromJson(doc);
+        PhotonTracing t = trace(*scene, 200000);
+        DVec3 landed(0.0);
+        for (const Photon& p : t.photons) landed += DVec3(p.power);
+        // Only how many photons land is random (binomial): each tolerance is about 5 standard
+        // errors.
+        expectRelativelyNear(landed, expected, tolerance);
     }
 }
 

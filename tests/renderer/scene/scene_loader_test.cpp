@@ -126,7 +126,8 @@ TEST(SceneLoaderErrors, UpParallelToViewOrZero) {
 
 TEST(SceneLoaderErrors, UnknownTopLevelFieldListsValidFields) {
     EXPECT_SCENE_ERROR(patched("/light", Json::array()), "/light",
-                       "unknown field; valid fields here: background, camera, lights, materials, "
+                       "unknown field; valid fields here: background, camera, environment, lights, "
+                       "materials, "
                        "settings, shapes");
 }
 
@@ -139,8 +140,9 @@ TEST(SceneLoaderErrors, UnknownFieldInCameraShapeOrMaterial) {
         "unknown field; valid fields here: center, flip_normals, material, radius, type");
     EXPECT_SCENE_ERROR(patched("/materials/white/roughness", 0.5), "/materials/white/roughness",
                        "unknown field; valid fields here: albedo, emission, type");
-    EXPECT_SCENE_ERROR(patched("/materials/glass/albedo", {1, 1, 1}), "/materials/glass/albedo",
-                       "unknown field; valid fields here: emission, fresnel, ior, roughness, tint, type");
+    EXPECT_SCENE_ERROR(
+        patched("/materials/glass/albedo", {1, 1, 1}), "/materials/glass/albedo",
+        "unknown field; valid fields here: emission, fresnel, ior, roughness, tint, type");
 }
 
 TEST(SceneLoaderErrors, UnknownTypesListValidTypes) {
@@ -385,9 +387,9 @@ TEST(SceneLoaderErrors, MeshTransform) {
 // --- lights, background, settings, the document ---
 
 TEST(SceneLoaderErrors, LightOfUnknownTypeOrMissingIntensity) {
-    Json light{{"type", "spot"}, {"position", {0, 1, 0}}, {"intensity", {1, 1, 1}}};
+    Json light{{"type", "area"}, {"position", {0, 1, 0}}, {"intensity", {1, 1, 1}}};
     EXPECT_SCENE_ERROR(patched("/lights", Json::array({light})), "/lights/0/type",
-                       "unknown value \"spot\"; valid: point");
+                       "unknown value \"area\"; valid: directional, point, spot");
     light["type"] = "point";
     light["intensity"] = {1, -1, 1};
     EXPECT_SCENE_ERROR(patched("/lights", Json::array({light})), "/lights/0/intensity/1",
