@@ -98,13 +98,71 @@ def bsdf(material):
     if kind == "mirror":
         return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
                 "specular_reflectance": rgb(material.get("reflectance", [1, 1, 1]))}}
+    alpha = float(material.get("roughness", 0.0)) ** 2  # Caustic's roughness is perceptual
     if kind == "dielectric":
         if material.get("fresnel", "exact") != "exact":
             sys.exit("mitsuba_compare: Mitsuba has no Schlick dielectric")
         tint = rgb(material.get("tint", [1, 1, 1]))
-        return {"type": "dielectric", "int_ior": float(material.get("ior", 1.5)), "ext_ior": 1.0,
-                "specular_reflectance": tint, "specular_transmittance": tint}
+        out = {"type": "dielectric", "int_ior": float(material.get("ior", 1.5)), "ext_ior": 1.0,
+               "specular_reflectance": tint, "specular_transmittance": tint}
+        if material.get("roughness", 0.0) >= 0.03:
+            out.update({"type": "roughdielectric", "distribution": "ggx", "alpha": alpha,
+                        "sample_visible": True})
+        return out
+    if kind == "conductor":
+        # Mitsuba's conductors have the exact Fresnel term of a complex index and no
+        # multiple-scattering lobe: the Caustic scene must say eta, k and multiple_scattering false.
+        if "eta" not in material or material.get("multiple_scattering", True) and alpha > 0:
+            sys.exit("mitsuba_compare: a conductor needs eta, k and multiple_scattering false")
+        out = {"type": "conductor", "eta": rgb(material["eta"]),
+               "k": rgb(material.get("k", [0, 0, 0]))}
+        if material.get("roughness", 0.0) >= 0.03:
+            out.update({"type": "roughconductor", "distribution": "ggx", "alpha": alpha,
+                        "sample_visible": True})
+        return {"type": "twosided", "bsdf": out}
     sys.exit(f"mitsuba_compare: material type {kind!r} has no translation")
+
+
+def emitters(scene):
+    """Caustic's point, spot and directional lights and its environment, as Mitsuba emitters. A
+    spot light's falloff is glTF's (squared, linear in cos) and Mitsuba's linear in the angle:
+    only a hard-edged cone (inner_angle == outer_angle) is the same light in both."""
+    out = {}
+    for i, light in enumerate(scene.get("lights", [])):
+        if "intensity" not in light and "irradiance" not in light:
+            sys.exit("mitsuba_compare: lights need intensity or irradiance (not candela or lux)")
+        kind = light["type"]
+        if kind == "point":
+            out[f"light{i}"] = {"type": "point", "position": [float(c) for c in light["position"]],
+                                "intensity": rgb(light["intensity"])}
+        elif kind == "spot":
+            inner, outer = float(light.get("inner_angle", 0)), float(light.get("outer_angle", 45))
+            if inner != outer:
+                sys.exit("mitsuba_compare: only a hard-edged spot (inner == outer) translates")
+            position = np.asarray(light["position"], dtype=float)
+            target = position + np.asarray(light["direction"], dtype=float)
+            up = [0, 1, 0] if abs(light["direction"][1]) < 0.9 * np.linalg.norm(
+                light["direction"]) else [1, 0, 0]
+            out[f"light{i}"] = {"type": "spot", "intensity": rgb(light["intensity"]),
+                                "cutoff_angle": outer, "beam_width": inner,
+                                "to_world": mi.ScalarTransform4f().look_at(
+                                    origin=position.tolist(), target=target.tolist(), up=up)}
+        else:
+            out[f"light{i}"] = {"type": "directional",
+                                "direction": [float(c) for c in light["direction"]],
+                                "irradiance": rgb(light["irradiance"])}
+    env = scene.get("environment")
+    if env:
+        strength = float(env.get("strength", 1.0))
+        if "color" in env:
+            out["environment"] = {"type": "constant",
+                                  "radiance": rgb([strength * c for c in env["color"]])}
+        else:
+            out["environment"] = {"type": "envmap", "scale": strength,
+                                  "filename": str(REPO / "assets/meshes" / env["file"]),
+                                  "to_world": mi.ScalarTransform4f().rotate(
+                                      [0, 1, 0], float(env.get("rotation", 0.0)))}
+    return out
 
 
 def mesh_to_world(t):
@@ -139,8 +197,8 @@ def mitsuba_dict(scene, spp, max_depth, rr_depth, sampler):
     """The Mitsuba scene. Mitsuba's max_depth counts path segments (1: emitters seen directly),
     Caustic's counts scattering events (1: direct light), hence the + 1. rr_depth means the same
     in both: roulette starts after that many scattering events."""
-    if scene.get("lights") or any(scene.get("background", [0, 0, 0])):
-        sys.exit("mitsuba_compare: point lights and backgrounds have no translation")
+    if any(scene.get("background", [0, 0, 0])):
+        sys.exit("mitsuba_compare: a background (not a light) has no translation")
     cam = scene["camera"]
     d = {"type": "scene",
          "integrator": {"type": "path", "max_depth": max_depth + 1, "rr_depth": rr_depth},
@@ -152,6 +210,7 @@ def mitsuba_dict(scene, spp, max_depth, rr_depth, sampler):
                     "sampler": {"type": sampler, "sample_count": spp}}}
     for i, s in enumerate(scene["shapes"]):
         d[f"shape{i}"] = shape(s, scene["materials"])
+    d.update(emitters(scene))
     return d
 
 

@@ -8,6 +8,7 @@
 #include "materials/conductor_fresnel.h"
 #include "materials/ggx.h"
 #include "materials/material.h"
+#include "materials/multiple_scattering.h"
 
 namespace caustic {
 
@@ -36,12 +37,9 @@ private:
     /// side wo is on (wo.z > 0).
     BsdfEval evalLocal(const Vec3& wo, const Vec3& wi) const;
 
-    float roughness_;
     Ggx ggx_;
     ConductorFresnel fresnel_;
-    bool multipleScattering_;
-    float averageAlbedo_ = 1.0f;   ///< E_avg; 1 without the lobe.
-    Color multipleFresnel_{0.0f};  ///< F_ms, the lobe's colour (Kulla and Conty 2017).
+    MultipleScatteringLobe multiple_;  ///< Off for a smooth metal or when asked.
 };
 
 }  // namespace caustic

@@ -40,7 +40,7 @@ GgxAlbedo::GgxAlbedo() {
         for (int i = 0; i < kMu; ++i) {
             const float mu = std::max(float(i) / float(kMu - 1), 1e-4f);
             const Vec3 wo(safeSqrt(1.0f - mu * mu), 0.0f, mu);
-            double sum = 0.0;
+            double sum = 0.0, schlick = 0.0;
             for (int b = 0; b < strataT; ++b) {
                 const double t = (b + 0.5) / strataT, rest = 1.0 - t;
                 const double uy = 1.0 - rest * rest * rest * rest,
@@ -49,41 +49,65 @@ GgxAlbedo::GgxAlbedo() {
                     const Vec2 u((float(a) + 0.5f) / strataPhi, float(uy));
                     const Vec3 wm = ggx.sampleVisible(wo, u);
                     const Vec3 wi = 2.0f * glm::dot(wo, wm) * wm - wo;
-                    if (wi.z > 0.0f) sum += jacobian * ggx.G(wo, wi) / ggx.G1(wo);
+                    if (!(wi.z > 0.0f)) continue;
+                    const double e = jacobian * ggx.G(wo, wi) / ggx.G1(wo);
+                    const double w = 1.0 - std::clamp(double(glm::dot(wo, wm)), 0.0, 1.0);
+                    sum += e;
+                    schlick += e * (w * w) * (w * w) * w;
                 }
             }
-            albedo_[size_t(j * kMu + i)] = std::min(1.0f, float(sum / (strataPhi * strataT)));
+            const size_t at = size_t(j * kMu + i);
+            one_.albedo[at] = std::min(1.0f, float(sum / (strataPhi * strataT)));
+            schlick_.albedo[at] = std::min(1.0f, float(schlick / (strataPhi * strataT)));
         }
-        // 2 int E mu dmu, exactly for E linear between nodes: on [a, b] with h = b - a,
-        // int E mu = h / 6 (E_a (2a + b) + E_b (a + 2b)).
-        const float h = 1.0f / float(kMu - 1);
-        double avg = 0.0;
-        for (int i = 0; i + 1 < kMu; ++i) {
-            const float a = float(i) * h, b = a + h;
-            avg += h / 6.0 *
-                   (albedo_[size_t(j * kMu + i)] * (2.0 * a + b) +
-                    albedo_[size_t(j * kMu + i + 1)] * (a + 2.0 * b));
+        for (Table* table : {&one_, &schlick_}) {
+            // 2 int E mu dmu, exactly for E linear between nodes: on [a, b] with h = b - a,
+            // int E mu = h / 6 (E_a (2a + b) + E_b (a + 2b)).
+            const float h = 1.0f / float(kMu - 1);
+            double avg = 0.0;
+            for (int i = 0; i + 1 < kMu; ++i) {
+                const float a = float(i) * h, b = a + h;
+                avg += h / 6.0 *
+                       (table->albedo[size_t(j * kMu + i)] * (2.0 * a + b) +
+                        table->albedo[size_t(j * kMu + i + 1)] * (a + 2.0 * b));
+            }
+            table->average[size_t(j)] = float(2.0 * avg);
         }
-        average_[size_t(j)] = float(2.0 * avg);
     }
 }
 
 float GgxAlbedo::albedo(float mu, float roughness) const {
+    return one_.at(mu, roughness);
+}
+
+float GgxAlbedo::average(float roughness) const {
+    return one_.averageAt(roughness);
+}
+
+float GgxAlbedo::schlickAlbedo(float mu, float roughness) const {
+    return schlick_.at(mu, roughness);
+}
+
+float GgxAlbedo::schlickAverage(float roughness) const {
+    return schlick_.averageAt(roughness);
+}
+
+float GgxAlbedo::Table::at(float mu, float roughness) const {
     int i, j;
     float s, t;
     locate(mu, kMu, i, s);
     locate(roughness, kRoughness, j, t);
-    auto at = [&](int jj, int ii) { return albedo_[size_t(jj * kMu + ii)]; };
-    const float lo = (1.0f - s) * at(j, i) + s * at(j, i + 1);
-    const float hi = (1.0f - s) * at(j + 1, i) + s * at(j + 1, i + 1);
+    auto node = [&](int jj, int ii) { return albedo[size_t(jj * kMu + ii)]; };
+    const float lo = (1.0f - s) * node(j, i) + s * node(j, i + 1);
+    const float hi = (1.0f - s) * node(j + 1, i) + s * node(j + 1, i + 1);
     return (1.0f - t) * lo + t * hi;
 }
 
-float GgxAlbedo::average(float roughness) const {
+float GgxAlbedo::Table::averageAt(float roughness) const {
     int j;
     float t;
     locate(roughness, kRoughness, j, t);
-    return (1.0f - t) * average_[size_t(j)] + t * average_[size_t(j + 1)];
+    return (1.0f - t) * average[size_t(j)] + t * average[size_t(j + 1)];
 }
 
 }  // namespace caustic

@@ -22,13 +22,22 @@ public:
     /// 2 int_0^1 E(mu) mu dmu for the same piecewise-linear E, interpolated linearly in roughness:
     /// the exact average of what albedo() returns, so that the lobe it scales conserves energy.
     float average(float roughness) const;
+    /// The same with the Fresnel factor (1 - wo.wm)^5 in place of 1: with it, the albedo of GGX
+    /// reflection with Schlick's Fresnel term of any F0 is F0 albedo + (1 - F0) schlickAlbedo.
+    float schlickAlbedo(float mu, float roughness) const;
+    float schlickAverage(float roughness) const;
 
     static constexpr int kMu = 32, kRoughness = 32;
 
 private:
     GgxAlbedo();
-    std::array<float, kMu * kRoughness> albedo_{};
-    std::array<float, kRoughness> average_{};
+    struct Table {
+        std::array<float, kMu * kRoughness> albedo{};
+        std::array<float, kRoughness> average{};
+        float at(float mu, float roughness) const;
+        float averageAt(float roughness) const;
+    };
+    Table one_, schlick_;
 };
 
 }  // namespace caustic

@@ -9,6 +9,7 @@
 #include "materials/conductor.h"
 #include "materials/dielectric.h"
 #include "materials/diffuse.h"
+#include "materials/metallic_roughness.h"
 #include "materials/mirror.h"
 #include "materials/rough_dielectric.h"
 #include "scene/json_reader.h"
@@ -20,7 +21,8 @@
 namespace caustic {
 namespace {
 
-const std::vector<std::string> kMaterialTypes{"diffuse", "mirror", "dielectric", "conductor"};
+const std::vector<std::string> kMaterialTypes{"diffuse", "mirror", "dielectric", "conductor",
+                                              "metallic_roughness"};
 const std::vector<std::string> kShapeTypes{"sphere", "quad", "triangle", "mesh"};
 
 // A reflectance in [0, 1] per channel: anything above 1 would create energy.
@@ -92,6 +94,16 @@ std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path) {
         m = std::make_unique<Mirror>(readReflectance(o, "reflectance", Color(1.0f)), emission);
     } else if (type == "conductor") {
         m = readConductor(o, emission);
+    } else if (type == "metallic_roughness") {
+        // glTF 2.0's defaults: white, fully metallic, fully rough.
+        const Color base = readReflectance(o, "base_color", Color(1.0f));
+        const float metallic = o.number("metallic", 1.0f);
+        if (!(metallic >= 0.0f && metallic <= 1.0f))
+            throw InputError(o.pathOf("metallic"), "must be in [0, 1]");
+        const float roughness = o.find("roughness") ? readRoughness(o) : 1.0f;
+        const bool multipleScattering = o.boolean("multiple_scattering", true);
+        m = std::make_unique<MetallicRoughness>(base, metallic, roughness, multipleScattering,
+                                                emission);
     } else {
         float ior = o.number("ior", 1.5f);
         if (!(ior > 0.0f)) throw InputError(o.pathOf("ior"), "must be > 0");

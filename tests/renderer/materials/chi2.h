@@ -230,4 +230,43 @@ inline void expectSamplingMatchesPdf(const Material& m, const Vec3& wo, double s
     EXPECT_GT(r.pValue, significance) << what << ": " << r.summary;
 }
 
+/// Over `n` random pairs of wo (within thetaMaxDegrees of +z, the normal) and sample, that each
+/// sample reports the f and pdf that f() and pdf() give for its direction, and the weight
+/// f |cos| / pdf; returns the samples taken, for checks of the caller's own.
+inline std::vector<std::pair<Vec3, BsdfSample>> expectSamplesReportValueAndDensity(
+    const Material& m, Rng& rng, int n, double thetaMaxDegrees) {
+    const Vec3 normal(0.0f, 0.0f, 1.0f);
+    std::vector<std::pair<Vec3, BsdfSample>> taken;
+    for (int i = 0; i < n; ++i) {
+        const Vec3 wo = directionAt(thetaMaxDegrees * rng.uniform(), 6.28 * rng.uniform());
+        const Vec2 u(rng.uniform(), rng.uniform());
+        auto s = m.sample(wo, normal, rng.uniform(), u, TransportMode::Radiance);
+        if (!s) continue;
+        const Color f = m.f(wo, s->wi, normal);
+        const float pdf = m.pdf(wo, s->wi, normal);
+        EXPECT_NEAR(s->pdf, pdf, 1e-4f * pdf);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(s->f[c], f[c], 1e-4f * f[c]);
+            EXPECT_NEAR(s->weight[c], f[c] * std::abs(s->wi.z) / pdf, 1e-4f * s->weight[c] + 1e-7f);
+        }
+        taken.emplace_back(wo, *s);
+    }
+    return taken;
+}
+
+/// That an opaque BSDF that reflects from both sides is reciprocal, f(a, b) = f(b, a), the same
+/// from the back (f(-a, -b)), and passes nothing between the sides, over n random pairs.
+inline void expectReciprocalTwoSidedReflector(const Material& m, Rng& rng, int n) {
+    const Vec3 normal(0.0f, 0.0f, 1.0f);
+    for (int i = 0; i < n; ++i) {
+        const Vec3 a = directionAt(89.0 * rng.uniform(), 6.28 * rng.uniform());
+        const Vec3 b = directionAt(89.0 * rng.uniform(), 6.28 * rng.uniform());
+        const Color fab = m.f(a, b, normal), fba = m.f(b, a, normal);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(fab[c], fba[c], 1e-5f * fab[c] + 1e-7f);
+        const Color back = m.f(-a, -b, normal);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(back[c], fab[c], 1e-5f * fab[c] + 1e-7f);
+        EXPECT_EQ(m.f(a, -b, normal), Color(0.0f));
+    }
+}
+
 }  // namespace caustic::testing

@@ -53,37 +53,15 @@ TEST(Conductor, SamplingMatchesItsPdf) {
 
 TEST(Conductor, SamplesReportTheirValueAndDensity) {
     Rng rng(3);
-    for (float r : {0.1f, 0.5f, 1.0f}) {
-        const Conductor m(r, kCopper, true, Color(0.0f));
-        for (int i = 0; i < 2000; ++i) {
-            const Vec3 wo = directionAt(89.0 * rng.uniform(), 6.28 * rng.uniform());
-            const Vec2 u(rng.uniform(), rng.uniform());
-            auto s = m.sample(wo, kNormal, rng.uniform(), u, TransportMode::Radiance);
-            if (!s) continue;
-            const Color f = m.f(wo, s->wi, kNormal);
-            const float pdf = m.pdf(wo, s->wi, kNormal);
-            EXPECT_NEAR(s->pdf, pdf, 1e-4f * pdf);
-            for (int c = 0; c < 3; ++c) {
-                EXPECT_NEAR(s->f[c], f[c], 1e-4f * f[c]);
-                EXPECT_NEAR(s->weight[c], f[c] * s->wi.z / pdf, 1e-4f * s->weight[c] + 1e-7f);
-            }
-        }
-    }
+    for (float r : {0.1f, 0.5f, 1.0f})
+        testing::expectSamplesReportValueAndDensity(Conductor(r, kCopper, true, Color(0.0f)), rng,
+                                                    2000, 89.0);
 }
 
 TEST(Conductor, IsReciprocalAndReflectsFromBothSides) {
     Rng rng(5);
-    const Conductor m(0.4f, kGold, true, Color(0.0f));
-    for (int i = 0; i < 1000; ++i) {
-        const Vec3 a = directionAt(89.0 * rng.uniform(), 6.28 * rng.uniform());
-        const Vec3 b = directionAt(89.0 * rng.uniform(), 6.28 * rng.uniform());
-        const Color fab = m.f(a, b, kNormal), fba = m.f(b, a, kNormal);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(fab[c], fba[c], 1e-5f * fab[c] + 1e-7f);
-        // The back side is the same surface, mirrored; nothing passes between the sides.
-        const Color back = m.f(-a, -b, kNormal);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(back[c], fab[c], 1e-5f * fab[c] + 1e-7f);
-        EXPECT_EQ(m.f(a, -b, kNormal), Color(0.0f));
-    }
+    testing::expectReciprocalTwoSidedReflector(Conductor(0.4f, kGold, true, Color(0.0f)), rng,
+                                               1000);
 }
 
 // A white metal (F0 = 1) in a white furnace reflects all it receives once the multiple-scattering

@@ -43,22 +43,12 @@ TEST(RoughDielectric, SamplingMatchesItsPdfFromBothSides) {
 
 TEST(RoughDielectric, SamplesReportTheirValueDensityAndIndex) {
     Rng rng(3);
-    for (float r : {0.1f, 0.5f, 1.0f}) {
-        const RoughDielectric m = glass(r);
-        for (int i = 0; i < 4000; ++i) {
-            const Vec3 wo = directionAt(179.0 * rng.uniform(), 6.28 * rng.uniform());
-            const Vec2 u(rng.uniform(), rng.uniform());
-            auto s = m.sample(wo, kNormal, rng.uniform(), u, TransportMode::Radiance);
-            if (!s) continue;
-            const Color f = m.f(wo, s->wi, kNormal);
-            const float pdf = m.pdf(wo, s->wi, kNormal);
-            EXPECT_NEAR(s->pdf, pdf, 1e-4f * pdf);
-            EXPECT_NEAR(s->f.x, f.x, 1e-4f * f.x);
-            EXPECT_NEAR(s->weight.x, f.x * std::abs(s->wi.z) / pdf, 1e-4f * s->weight.x);
-            const bool transmitted = s->wi.z * wo.z < 0.0f;
-            EXPECT_EQ(s->eta, transmitted ? (wo.z > 0.0f ? 1.5f : 1.0f / 1.5f) : 1.0f);
+    for (float r : {0.1f, 0.5f, 1.0f})
+        for (const auto& [wo, s] :
+             testing::expectSamplesReportValueAndDensity(glass(r), rng, 4000, 179.0)) {
+            const bool transmitted = s.wi.z * wo.z < 0.0f;
+            EXPECT_EQ(s.eta, transmitted ? (wo.z > 0.0f ? 1.5f : 1.0f / 1.5f) : 1.0f);
         }
-    }
 }
 
 // Reflection is symmetric; refraction symmetric up to the squared relative index (Veach 1997,

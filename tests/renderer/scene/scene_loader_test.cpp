@@ -147,7 +147,8 @@ TEST(SceneLoaderErrors, UnknownFieldInCameraShapeOrMaterial) {
 
 TEST(SceneLoaderErrors, UnknownTypesListValidTypes) {
     EXPECT_SCENE_ERROR(patched("/materials/white/type", "glossy"), "/materials/white/type",
-                       "unknown value \"glossy\"; valid: conductor, dielectric, diffuse, mirror");
+                       "unknown value \"glossy\"; valid: conductor, dielectric, diffuse, "
+                       "metallic_roughness, mirror");
     EXPECT_SCENE_ERROR(patched("/shapes/0/type", "cone"), "/shapes/0/type",
                        "unknown value \"cone\"; valid: mesh, quad, sphere, triangle");
 }
@@ -253,6 +254,26 @@ TEST(SceneLoaderErrors, ConductorRoughnessAndFresnel) {
         patched("/materials/m", metal({{"albedo", {1, 1, 1}}})), "/materials/m/albedo",
         "unknown field; valid fields here: emission, eta, f0, k, multiple_scattering, "
         "roughness, type");
+}
+
+TEST(SceneLoaderErrors, MetallicRoughnessFactors) {
+    const auto gltf = [](const std::vector<std::pair<std::string, Json>>& fields) {
+        Json m{{"type", "metallic_roughness"}};
+        for (const auto& [key, value] : fields) m[key] = value;
+        return m;
+    };
+    EXPECT_NO_THROW(loadScene(patched("/materials/m", gltf({})), repoSceneOptions()));
+    EXPECT_SCENE_ERROR(patched("/materials/m", gltf({{"base_color", {0.5, 1.5, 0.5}}})),
+                       "/materials/m/base_color/1", "must be <= 1 (energy conservation)");
+    EXPECT_SCENE_ERROR(patched("/materials/m", gltf({{"metallic", 1.2}})), "/materials/m/metallic",
+                       "must be in [0, 1]");
+    EXPECT_SCENE_ERROR(patched("/materials/m", gltf({{"metallic", -0.2}})), "/materials/m/metallic",
+                       "must be in [0, 1]");
+    EXPECT_SCENE_ERROR(patched("/materials/m", gltf({{"roughness", 2}})), "/materials/m/roughness",
+                       "must be in [0, 1]");
+    EXPECT_SCENE_ERROR(patched("/materials/m", gltf({{"f0", {1, 1, 1}}})), "/materials/m/f0",
+                       "unknown field; valid fields here: base_color, emission, metallic, "
+                       "multiple_scattering, roughness, type");
 }
 
 TEST(SceneLoaderErrors, MaterialsNotObjects) {
