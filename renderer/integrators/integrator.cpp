@@ -28,7 +28,7 @@ bool Integrator::unoccluded(const SurfaceInteraction& si, const LightSample& ls,
 Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
                                     SampleContext& ctx, bool mis) const {
     if (m.isSpecular()) return Color(0.0f);
-    std::optional<SampledLight> chosen = scene_.lightSampler.sample(ctx.sampler.uniform());
+    std::optional<SampledLight> chosen = scene_.directLights.sample(si, ctx.sampler.uniform());
     Vec2 u = ctx.sampler.uniform2();
     if (!chosen) return Color(0.0f);
     std::optional<LightSample> ls = chosen->light->sampleLi(si, u);

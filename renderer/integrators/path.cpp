@@ -52,15 +52,18 @@ float PathIntegrator::emissionWeight(const LightSampleContext& from, float bsdfP
     if (!settings_.lightSampling) return 1.0f;
     // Light sampling alone accounts for emitters seen from non-specular vertices.
     if (!settings_.mis) return 0.0f;
-    std::optional<SampledLight> light = scene_.areaLightOf(at.prim);
+    std::optional<size_t> light = scene_.areaLightOf(at.prim);
     if (!light) return 1.0f;
-    return powerHeuristic(bsdfPdf, light->pmf * light->light->pdfLi(from, at));
+    return powerHeuristic(
+        bsdfPdf, scene_.directLights.pmf(from, *light) * scene_.lights[*light]->pdfLi(from, at));
 }
 
-float PathIntegrator::environmentWeight(float bsdfPdf, const Vec3& d) const {
+float PathIntegrator::environmentWeight(const LightSampleContext& from, float bsdfPdf,
+                                        const Vec3& d) const {
     if (!settings_.lightSampling) return 1.0f;
     if (!settings_.mis) return 0.0f;
-    return powerHeuristic(bsdfPdf, scene_.environmentPmf() * scene_.environment->pdfDirection(d));
+    return powerHeuristic(bsdfPdf, scene_.directLights.pmf(from, scene_.environmentIndex) *
+                                       scene_.environment->pdfDirection(d));
 }
 
 Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
@@ -88,7 +91,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
             // The background is not sampled as a light: BSDF sampling finds it with weight 1.
             L += beta * scene_.background;
             if (scene_.environment && !(specularBounce && mappedCaustics)) {
-                float w = specularBounce ? 1.0f : environmentWeight(bsdfPdf, ray.d);
+                float w = specularBounce ? 1.0f : environmentWeight(from, bsdfPdf, ray.d);
                 L += beta * scene_.environment->Le(ray.d) * w;
             }
             break;

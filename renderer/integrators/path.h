@@ -61,7 +61,7 @@ private:
     float emissionWeight(const LightSampleContext& from, float bsdfPdf,
                          const SurfaceInteraction& at) const;
     /// The same for the environment's radiance found by a ray that left the scene along d.
-    float environmentWeight(float bsdfPdf, const Vec3& d) const;
+    float environmentWeight(const LightSampleContext& from, float bsdfPdf, const Vec3& d) const;
 
     int maxDepth_;
     Settings settings_;

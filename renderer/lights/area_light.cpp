@@ -27,6 +27,13 @@ std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ref, Ve
     return ls;
 }
 
+float AreaLight::importance(const LightSampleContext& ref) const {
+    const Bounds3 b = geometry_.bounds(prim_);
+    const Vec3 d = b.center() - ref.p;
+    const float radius2 = 0.25f * glm::dot(b.diagonal(), b.diagonal());
+    return luminance(power()) / std::max(glm::dot(d, d), radius2);
+}
+
 std::optional<LightLeSample> AreaLight::sampleLe(Vec2 uPosition, Vec2 uDirection) const {
     SurfaceSample at = geometry_.sample(prim_, uPosition);
     Vec3 local = sampleCosineHemisphere(uDirection);

@@ -22,6 +22,10 @@ public:
     /// Le * area * pi: a one-sided Lambertian emitter.
     Color power() const override { return Le_ * geometry_.area(prim_) * kPi; }
     bool isDelta() const override { return false; }
+    /// Its power over the squared distance to its bounds' centre, no nearer than the bounds'
+    /// half-diagonal: never zero, since a part of the emitter may face ref when its centre does
+    /// not.
+    float importance(const LightSampleContext& ref) const override;
     uint32_t prim() const { return prim_; }
 
 private:

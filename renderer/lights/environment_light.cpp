@@ -35,21 +35,23 @@ EnvironmentLight::EnvironmentLight(RgbImage image, float rotationDegrees, float 
     cosRotation_ = std::cos(r);
     sinRotation_ = std::sin(r);
     const int w = image_.width, h = image_.height;
-    // The density over (u, v): Le sin(theta), with Le bounded by the largest texel that bilinear
-    // lookups inside a texel read (its 3 x 3 neighbourhood), so that the density is never zero
-    // where Le is not.
+    // The density over (u, v): Le sin(theta), Le the bilinear reconstruction averaged over each
+    // texel (pbrt-v4 12.5.2, Image::GetSamplingDistribution). Per axis a texel's average takes
+    // 3/4 of its own value and 1/8 of each neighbour's; it is positive wherever Le is.
     std::vector<float> values(size_t(w) * size_t(h));
     DVec3 integral(0.0);
+    constexpr float kWeights[3] = {0.125f, 0.75f, 0.125f};
     for (int y = 0; y < h; ++y) {
         const float theta0 = kPi * float(y) / float(h), theta1 = kPi * float(y + 1) / float(h);
         const float sinTheta = std::sin(0.5f * (theta0 + theta1));
         const double rowSolidAngle = 2.0 * double(kPi) / w * (std::cos(theta0) - std::cos(theta1));
         for (int x = 0; x < w; ++x) {
-            float largest = 0.0f;
+            float average = 0.0f;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx)
-                    largest = std::max(largest, luminance(texel(x + dx, y + dy)));
-            values[size_t(y) * w + x] = largest * sinTheta;
+                    average +=
+                        kWeights[dy + 1] * kWeights[dx + 1] * luminance(texel(x + dx, y + dy));
+            values[size_t(y) * w + x] = average * sinTheta;
             integral += DVec3(texel(x, y)) * rowSolidAngle;
         }
     }

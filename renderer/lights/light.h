@@ -38,6 +38,17 @@ struct LightLeSample {
     Color power;
 };
 
+/// |cos theta| / d^2 of a light at `position` seen from ref (|cos| 1 for a point in space): how a
+/// point light's irradiance at ref scales.
+inline float pointLightFactor(const Vec3& position, const LightSampleContext& ref) {
+    const Vec3 d = position - ref.p;
+    const float dist2 = glm::dot(d, d);
+    if (!(dist2 > 0.0f)) return 0.0f;
+    const float cosine =
+        glm::dot(ref.n, ref.n) > 0.0f ? std::abs(glm::dot(d, ref.n)) / std::sqrt(dist2) : 1.0f;
+    return cosine / dist2;
+}
+
 class Light {
 public:
     virtual ~Light() = default;
@@ -55,6 +66,10 @@ public:
     virtual Color power() const = 0;
     /// True for lights that cannot be hit by a ray (point lights).
     virtual bool isDelta() const = 0;
+    /// An estimate of the light's contribution at ref, for choosing among lights there
+    /// (LocalLightSampler): positive wherever the light can contribute, zero only where it cannot.
+    /// By default its power's luminance, the same everywhere.
+    virtual float importance(const LightSampleContext&) const { return luminance(power()); }
 };
 
 }  // namespace caustic

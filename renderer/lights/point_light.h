@@ -30,6 +30,10 @@ public:
         return LightLeSample{Ray{position_, sampleUniformSphere(uDirection)}, power()};
     }
     Color power() const override { return 4.0f * kPi * intensity_; }
+    /// The luminance of the irradiance at ref: I |cos| / d^2 (|cos| 1 for a point in space).
+    float importance(const LightSampleContext& ref) const override {
+        return luminance(intensity_) * pointLightFactor(position_, ref);
+    }
     bool isDelta() const override { return true; }
     const Vec3& position() const { return position_; }
 

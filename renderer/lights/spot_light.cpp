@@ -48,6 +48,13 @@ std::optional<LightLeSample> SpotLight::sampleLe(Vec2, Vec2 u) const {
     return LightLeSample{Ray{position_, w}, intensity_ * (f * 2.0f * kPi * (1.0f - cosOuter_))};
 }
 
+float SpotLight::importance(const LightSampleContext& ref) const {
+    const Vec3 d = ref.p - position_;
+    const float length = glm::length(d);
+    if (!(length > 0.0f)) return 0.0f;
+    return luminance(intensity_) * falloff(d / length) * pointLightFactor(position_, ref);
+}
+
 Color SpotLight::power() const {
     return intensity_ * (2.0f * kPi * ((1.0f - cosInner_) + (cosInner_ - cosOuter_) / 3.0f));
 }

@@ -25,6 +25,8 @@ public:
     /// sphere.
     Color power() const override;
     bool isDelta() const override { return true; }
+    /// The luminance of the irradiance at ref: I falloff |cos| / d^2.
+    float importance(const LightSampleContext& ref) const override;
 
 private:
     Vec3 position_, axis_;

@@ -15,6 +15,7 @@
 #include "lights/environment_light.h"
 #include "lights/light.h"
 #include "lights/light_sampler.h"
+#include "lights/local_light_sampler.h"
 #include "materials/material.h"
 #include "scene/camera.h"
 #include "scene/mesh_counts.h"
@@ -29,8 +30,10 @@ struct Scene {
     std::vector<std::string> materialNames;
     /// Point lights and one area light per emissive primitive.
     std::vector<std::unique_ptr<Light>> lights;
-    /// Chooses among `lights` by power; empty (and free) when nothing emits.
+    /// Chooses among `lights` by power (where photons start); empty (and free) when nothing emits.
     LightSampler lightSampler;
+    /// Chooses the light a shading point samples, by its estimated contribution there.
+    LocalLightSampler directLights;
     /// The emissive primitives in ascending order: lights[firstAreaLight + i] is emitterPrims[i]'s
     /// area light. Empty when nothing emits.
     std::vector<uint32_t> emitterPrims;
@@ -59,13 +62,11 @@ struct Scene {
     Color escapedRadiance(const Vec3& d) const {
         return environment ? background + environment->Le(d) : background;
     }
-    /// The probability that the light sampler picks the environment (0 without one).
-    float environmentPmf() const { return environment ? lightSampler.pmf(environmentIndex) : 0.0f; }
 
     const Material& material(uint32_t prim) const { return *materials[geometry.material(prim)]; }
-    /// The area light of an emissive primitive and the probability that the light sampler picks
-    /// it; nullopt for a primitive that does not emit.
-    std::optional<SampledLight> areaLightOf(uint32_t prim) const;
+    /// The index in `lights` of an emissive primitive's area light; nullopt for a primitive that
+    /// does not emit.
+    std::optional<size_t> areaLightOf(uint32_t prim) const;
     /// Bytes of the light tables: the sampler, the primitive-to-light index and the environment.
     size_t lightTableBytes() const {
         return lightSampler.memoryBytes() + emitterPrims.capacity() * sizeof(uint32_t) +

@@ -309,14 +309,16 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
         scene->emitterPrims.push_back(prim);
     }
     if (!scene->lights.empty()) scene->lightSampler = LightSampler(scene->lights);
+    scene->directLights = LocalLightSampler(
+        scene->lights, scene->environment ? scene->environmentIndex : scene->lights.size(),
+        scene->lightSampler);
     return scene;
 }
 
-std::optional<SampledLight> Scene::areaLightOf(uint32_t prim) const {
+std::optional<size_t> Scene::areaLightOf(uint32_t prim) const {
     auto it = std::lower_bound(emitterPrims.begin(), emitterPrims.end(), prim);
     if (it == emitterPrims.end() || *it != prim) return std::nullopt;
-    size_t index = firstAreaLight + size_t(it - emitterPrims.begin());
-    return SampledLight{lights[index].get(), lightSampler.pmf(index)};
+    return firstAreaLight + size_t(it - emitterPrims.begin());
 }
 
 Json parseJson(const std::string& text) {

@@ -84,9 +84,10 @@ TEST(DirectionalKnownAnswer, FloorRadianceIsAlbedoOverPiTimesIrradianceCosine) {
     }
 }
 
-// A floor, a glass sphere and a rough metal sphere under a sky with a small, bright sun. The three
-// path tracers find the sky differently: naive by BSDF sampling alone, light sampling by the
-// environment's importance sampling, MIS by both; with one max_depth they converge to one image.
+// A floor, a glass sphere and a rough metal sphere under a sky with a small, bright sun, with two
+// emitters besides. The three path tracers find the lights differently: naive by BSDF sampling
+// alone, light sampling by choosing a light by its contribution at the point (LocalLightSampler)
+// and sampling it, MIS by both; with one max_depth they converge to one image.
 TEST(EnvironmentConvergence, NaiveLightSamplingAndMisAgreePerRegion) {
     testing::TempDir dir;
     writeImage(dir.path() / "sky.exr", testing::skyWithSun(128, 64, 24, 18, 3, 400.0f));
@@ -96,12 +97,16 @@ TEST(EnvironmentConvergence, NaiveLightSamplingAndMisAgreePerRegion) {
       "materials": {
         "floor": {"type": "diffuse", "albedo": [0.6, 0.6, 0.6]},
         "glass": {"type": "dielectric", "ior": 1.5},
-        "metal": {"type": "conductor", "roughness": 0.4, "f0": [0.9, 0.7, 0.4]}
+        "metal": {"type": "conductor", "roughness": 0.4, "f0": [0.9, 0.7, 0.4]},
+        "lamp": {"type": "diffuse", "albedo": [0, 0, 0], "emission": [3, 2, 1]}
       },
       "shapes": [
         {"type": "quad", "origin": [-4, 0, -4], "u": [0, 0, 8], "v": [8, 0, 0], "material": "floor"},
         {"type": "sphere", "center": [-0.6, 0.5, 0], "radius": 0.5, "material": "glass"},
-        {"type": "sphere", "center": [0.6, 0.5, 0], "radius": 0.5, "material": "metal"}
+        {"type": "sphere", "center": [0.6, 0.5, 0], "radius": 0.5, "material": "metal"},
+        {"type": "sphere", "center": [1.2, 1.3, 0.8], "radius": 0.15, "material": "lamp"},
+        {"type": "quad", "origin": [-2, 0.01, 1], "u": [0.8, 0, 0], "v": [0, 0, -0.8],
+         "material": "lamp"}
       ],
       "environment": {"file": "sky.exr", "rotation": 30}
     })");

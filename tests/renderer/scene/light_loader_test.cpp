@@ -41,7 +41,7 @@ TEST_F(LightLoader, LoadsEveryLightKindAndTheEnvironment) {
     ASSERT_EQ(scene->lights.size(), 5u);
     ASSERT_NE(scene->environment, nullptr);
     EXPECT_EQ(scene->lights[scene->environmentIndex].get(), scene->environment);
-    EXPECT_GT(scene->environmentPmf(), 0.0f);
+    EXPECT_EQ(scene->directLights.pmf(Vec3(0.0f), scene->environmentIndex), 0.5f);
     EXPECT_GT(scene->environmentBytes, 16u * 8u * 12u);
     // 683 candela of colour (1, 0.5, 0.25) is that many W/sr: 4 pi of power in red.
     EXPECT_NEAR(scene->lights[1]->power().g, 0.5f * 4.0f * kPi, 1e-4f);
