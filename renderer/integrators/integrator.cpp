@@ -31,7 +31,11 @@ Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo
     std::optional<SampledLight> chosen = scene_.directLights.sample(si, ctx.sampler.uniform());
     Vec2 u = ctx.sampler.uniform2();
     if (!chosen) return Color(0.0f);
-    std::optional<LightSample> ls = chosen->light->sampleLi(si, u);
+    // With MIS, BSDF sampling finds the environment's dim directions: its light samples may
+    // leave them out (MIS compensation).
+    std::optional<LightSample> ls = mis && chosen->light == scene_.environment
+                                        ? scene_.environment->sampleLiCompensated(si, u)
+                                        : chosen->light->sampleLi(si, u);
     if (!ls || isBlack(ls->Li)) return Color(0.0f);
     const SurfaceBsdf bsdf(m, si);
     Color f = bsdf.f(wo, ls->wi);

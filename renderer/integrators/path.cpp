@@ -63,7 +63,7 @@ float PathIntegrator::environmentWeight(const LightSampleContext& from, float bs
     if (!settings_.lightSampling) return 1.0f;
     if (!settings_.mis) return 0.0f;
     return powerHeuristic(bsdfPdf, scene_.directLights.pmf(from, scene_.environmentIndex) *
-                                       scene_.environment->pdfDirection(d));
+                                       scene_.environment->pdfDirection(d, /*compensated=*/true));
 }
 
 Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {

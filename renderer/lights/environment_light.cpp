@@ -56,6 +56,11 @@ EnvironmentLight::EnvironmentLight(RgbImage image, float rotationDegrees, float 
         }
     }
     distribution_ = Distribution2D(values, w, h);
+    // MIS compensation: the density less its average, clamped at zero (all zero: uniform).
+    double mean = 0.0;
+    for (float v : values) mean += double(v) / double(values.size());
+    for (float& v : values) v = std::max(0.0f, float(double(v) - mean));
+    compensated_ = Distribution2D(values, w, h);
     power_ = Color(integral) * strength_ * (kPi * radius_ * radius_);
 }
 
@@ -90,34 +95,45 @@ Color EnvironmentLight::Le(const Vec3& w) const {
     return strength_ * ((1.0f - ty) * top + ty * bottom);
 }
 
-Vec3 EnvironmentLight::sampleDirection(Vec2 u, float& pdf) const {
+Vec3 EnvironmentLight::sampleDirection(Vec2 u, float& pdf, bool compensated) const {
     if (image_.pixels.empty()) {
         pdf = kUniformSpherePdf;
         return sampleUniformSphere(u);
     }
     float pdfUv = 0.0f;
-    const Vec2 uv = distribution_.sample(u, pdfUv);
+    const Vec2 uv = (compensated ? compensated_ : distribution_).sample(u, pdfUv);
     const float theta = kPi * uv.y, phi = 2.0f * kPi * uv.x;
     const float sinTheta = std::sin(theta);
     const Vec3 w =
         toWorld(Vec3(sinTheta * std::sin(phi), std::cos(theta), -sinTheta * std::cos(phi)));
     // The density pdfDirection gives the direction, which MIS weighs against: computed from w as
     // it evaluates it, not from (u, v), whose sin(theta) differs in the last bits near the poles.
-    pdf = pdfUv > 0.0f ? pdfDirection(w) : 0.0f;
+    pdf = pdfUv > 0.0f ? pdfDirection(w, compensated) : 0.0f;
     return w;
 }
 
-float EnvironmentLight::pdfDirection(const Vec3& w) const {
+float EnvironmentLight::pdfDirection(const Vec3& w, bool compensated) const {
     if (image_.pixels.empty()) return kUniformSpherePdf;
     const Vec3 local = toLocal(w);
     const float sinTheta = safeSqrt(1.0f - local.y * local.y);
     if (!(sinTheta > 0.0f)) return 0.0f;
-    return distribution_.pdf(equirectUv(local)) / (2.0f * kPi * kPi * sinTheta);
+    const Distribution2D& d = compensated ? compensated_ : distribution_;
+    return d.pdf(equirectUv(local)) / (2.0f * kPi * kPi * sinTheta);
 }
 
 std::optional<LightSample> EnvironmentLight::sampleLi(const LightSampleContext& ref, Vec2 u) const {
+    return sample(ref, u, false);
+}
+
+std::optional<LightSample> EnvironmentLight::sampleLiCompensated(const LightSampleContext& ref,
+                                                                 Vec2 u) const {
+    return sample(ref, u, true);
+}
+
+std::optional<LightSample> EnvironmentLight::sample(const LightSampleContext& ref, Vec2 u,
+                                                    bool compensated) const {
     LightSample s;
-    s.wi = sampleDirection(u, s.pdf);
+    s.wi = sampleDirection(u, s.pdf, compensated);
     if (!(s.pdf > 0.0f) || !std::isfinite(s.pdf)) return std::nullopt;
     s.Li = Le(s.wi);
     // A point past the bounding sphere, for the shadow ray.
@@ -128,7 +144,7 @@ std::optional<LightSample> EnvironmentLight::sampleLi(const LightSampleContext& 
 
 std::optional<LightLeSample> EnvironmentLight::sampleLe(Vec2 uPosition, Vec2 uDirection) const {
     float pdfDirection = 0.0f;
-    const Vec3 w = sampleDirection(uDirection, pdfDirection);
+    const Vec3 w = sampleDirection(uDirection, pdfDirection, false);
     if (!(pdfDirection > 0.0f) || !std::isfinite(pdfDirection)) return std::nullopt;
     Vec3 t, b;
     coordinateSystem(w, t, b);
@@ -140,7 +156,8 @@ std::optional<LightLeSample> EnvironmentLight::sampleLe(Vec2 uPosition, Vec2 uDi
 }
 
 size_t EnvironmentLight::memoryBytes() const {
-    return image_.pixels.capacity() * sizeof(float) + distribution_.memoryBytes();
+    return image_.pixels.capacity() * sizeof(float) + distribution_.memoryBytes() +
+           compensated_.memoryBytes();
 }
 
 }  // namespace caustic

@@ -22,10 +22,17 @@ public:
 
     /// The radiance arriving from direction w (unit, pointing away from the scene).
     Color Le(const Vec3& w) const;
-    /// The solid-angle density with which sampleLi returns direction w.
-    float pdfDirection(const Vec3& w) const;
+    /// The solid-angle density with which sampleLi returns direction w; with `compensated`, that
+    /// of sampleLiCompensated.
+    float pdfDirection(const Vec3& w, bool compensated = false) const;
 
     std::optional<LightSample> sampleLi(const LightSampleContext& ref, Vec2 u) const override;
+    /// A light sample for multiple importance sampling with BSDF sampling: from the density less
+    /// its average, clamped at zero (Karlik et al. 2019, "MIS Compensation: Optimizing Sampling
+    /// Techniques in Multiple Importance Sampling"; pbrt-v4 12.5.2). It never returns the dim
+    /// directions, which BSDF sampling finds; the bright ones get more samples. Only an integrator
+    /// that adds the BSDF-sampled share with MIS weights may use it.
+    std::optional<LightSample> sampleLiCompensated(const LightSampleContext& ref, Vec2 u) const;
     /// Zero: a ray reaches an environment by leaving the scene, not by hitting a surface; the
     /// integrators ask pdfDirection.
     float pdfLi(const LightSampleContext&, const SurfaceInteraction&) const override { return 0; }
@@ -41,21 +48,25 @@ public:
     size_t memoryBytes() const;
     /// What memoryBytes() is for a width x height image, from its size alone (admission).
     static size_t bytesFor(int width, int height) {
-        // RGB float texels; a density value and a double CDF entry per texel; a few per row.
+        // RGB float texels; two densities (plain and compensated), each a value and a double CDF
+        // entry per texel and a few per row.
         const size_t texels = size_t(width) * size_t(height);
-        return texels * (3 * sizeof(float) + sizeof(float) + sizeof(double)) + size_t(height) * 64;
+        return texels * (3 * sizeof(float) + 2 * (sizeof(float) + sizeof(double))) +
+               size_t(height) * 128;
     }
 
 private:
     Vec3 toLocal(const Vec3& w) const;
     Vec3 toWorld(const Vec3& local) const;
     /// Direction (world) and density per steradian for a sample u.
-    Vec3 sampleDirection(Vec2 u, float& pdf) const;
+    Vec3 sampleDirection(Vec2 u, float& pdf, bool compensated) const;
+    std::optional<LightSample> sample(const LightSampleContext& ref, Vec2 u,
+                                      bool compensated) const;
     Color texel(int x, int y) const;
 
     Color constant_{0.0f};
     RgbImage image_;  // empty for a constant environment
-    Distribution2D distribution_;
+    Distribution2D distribution_, compensated_;
     float strength_ = 1.0f;
     float cosRotation_ = 1.0f, sinRotation_ = 0.0f;
     Vec3 center_{0.0f};

@@ -66,21 +66,25 @@ TEST(EnvironmentLight, DensityIntegratesToOneOverTheSphere) {
     EXPECT_NEAR(sum * (2.0 / n) * (kPi / n), 1.0, 2e-3);
 }
 
+// Both densities: the plain one, and the MIS-compensated one (zero over the dim sky).
 TEST(EnvironmentLight, SamplingMatchesItsDensity) {
-    const double significance = testing::chi2Significance(2);
-    for (float rotation : {0.0f, 75.0f}) {
-        EnvironmentLight env(skyWithSun(64, 32, 20, 9, 4, 50.0f), rotation, 1.0f, unitBox());
-        const testing::Chi2Result r = testing::chi2Test(
-            [&](Vec2 u, float) -> std::optional<Vec3> {
-                auto s = env.sampleLi(Vec3(0.0f), u);
-                if (!s) return std::nullopt;
-                EXPECT_NEAR(s->pdf, env.pdfDirection(s->wi), 1e-4f * s->pdf);
-                return s->wi;
-            },
-            [&](const Vec3& w) { return double(env.pdfDirection(w)); }, 400000);
-        EXPECT_NEAR(r.pdfIntegral, r.sampledFraction, 4e-3) << r.summary;
-        EXPECT_GT(r.pValue, significance) << "rotation " << rotation << ": " << r.summary;
-    }
+    const double significance = testing::chi2Significance(4);
+    for (bool compensated : {false, true})
+        for (float rotation : {0.0f, 75.0f}) {
+            EnvironmentLight env(skyWithSun(64, 32, 20, 9, 4, 50.0f), rotation, 1.0f, unitBox());
+            const testing::Chi2Result r = testing::chi2Test(
+                [&](Vec2 u, float) -> std::optional<Vec3> {
+                    auto s = compensated ? env.sampleLiCompensated(Vec3(0.0f), u)
+                                         : env.sampleLi(Vec3(0.0f), u);
+                    if (!s) return std::nullopt;
+                    EXPECT_NEAR(s->pdf, env.pdfDirection(s->wi, compensated), 1e-4f * s->pdf);
+                    return s->wi;
+                },
+                [&](const Vec3& w) { return double(env.pdfDirection(w, compensated)); }, 400000);
+            EXPECT_NEAR(r.pdfIntegral, r.sampledFraction, 4e-3) << r.summary;
+            EXPECT_GT(r.pValue, significance) << (compensated ? "compensated, " : "") << "rotation "
+                                              << rotation << ": " << r.summary;
+        }
 }
 
 TEST(EnvironmentLight, PhotonsCarryItsPower) {
