@@ -16,7 +16,6 @@ namespace caustic {
 namespace {
 
 using testing::directionAt;
-const Vec3 kNormal(0.0f, 0.0f, 1.0f);
 
 RoughDielectric glass(float roughness, float ior = 1.5f) {
     return RoughDielectric(roughness, ior, FresnelModel::Exact, Color(1.0f), Color(0.0f));
