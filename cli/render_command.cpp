@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "film/image_io.h"
 #include "progress_bar.h"
+#include "render/integrator_factory.h"
 #include "render/renderer.h"
 #include "render/resolution.h"
 #include "render/settings.h"

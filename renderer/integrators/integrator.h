@@ -17,8 +17,6 @@
 
 namespace caustic {
 
-struct RenderSettings;
-
 /// The general render settings that integrators read, as Tungsten's TraceSettings: path length,
 /// and the seed and threads of an integrator's own per-pass work (photon tracing). RenderSettings
 /// derives from it, so each is stored once; integrators take it beside their own Settings.
@@ -91,22 +89,5 @@ protected:
     const Accelerator& accel_;
     const Interrupt* interrupt_ = nullptr;
 };
-
-/// The integrator names `createIntegrator` accepts.
-const std::vector<std::string>& integratorNames();
-
-/// Whether the error estimated from the pass variance misses part of the integrator's error: the
-/// photon mappers' bias, which every pass shares (photon) or which shrinks pass by pass (ppm, and
-/// path with photon-mapped caustics or indirect light); docs/study/README.md measures it.
-inline bool errorExcludesBias(const std::string& integrator, bool pathPhotonMaps) {
-    return integrator == "photon" || integrator == "ppm" ||
-           (integrator == "path" && pathPhotonMaps);
-}
-
-/// Creates the integrator `settings.integrator`, with its own settings, for a scene and
-/// accelerator that outlive it. Throws InputError (path "/settings/integrator") for an unknown
-/// name, listing the valid ones.
-std::unique_ptr<Integrator> createIntegrator(const Scene& scene, const Accelerator& accel,
-                                             const RenderSettings& settings);
 
 }  // namespace caustic

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "render/forecast.h"
+#include "render/integrator_factory.h"
 #include "render/memory_estimate.h"
 #include "render/sample_map.h"
 

@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "accel/accelerator.h"
+#include "render/integrator_factory.h"
 #include "render/presets.h"
 #include "render/settings.h"
 

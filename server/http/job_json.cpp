@@ -4,6 +4,7 @@
 #include <ctime>
 
 #include "integrators/integrator.h"
+#include "render/integrator_factory.h"
 
 namespace caustic::server {
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "integrators/integrator.h"
+#include "render/integrator_factory.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 

@@ -12,6 +12,7 @@
 #include "accel/accelerator.h"
 #include "integrators/integrator.h"
 #include "photons/photon_tracer.h"
+#include "render/integrator_factory.h"
 #include "support/test_scenes.h"
 
 namespace caustic {

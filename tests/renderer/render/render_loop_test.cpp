@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "integrators/integrator.h"
+#include "render/integrator_factory.h"
 #include "support/test_scenes.h"
 
 namespace caustic {

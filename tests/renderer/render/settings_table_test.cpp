@@ -10,6 +10,7 @@
 
 #include "accel/accelerator.h"
 #include "integrators/integrator.h"
+#include "render/integrator_factory.h"
 #include "render/settings.h"
 
 namespace caustic {

@@ -12,6 +12,7 @@
 #include "accel/accelerator.h"
 #include "core/error.h"
 #include "integrators/integrator.h"
+#include "render/integrator_factory.h"
 #include "render/presets.h"
 
 namespace caustic {
