@@ -69,11 +69,9 @@ void appendAttribute(std::vector<T>& all, const std::vector<T>& mesh, size_t bas
 
 uint32_t Geometry::addTriangles(const std::vector<Vec3>& positions,
                                 const std::vector<glm::uvec3>& triangles, uint32_t material,
-                                const std::vector<Vec3>& normals,
-                                const std::vector<Vec2>& texcoords) {
+                                const std::vector<Vec3>& normals) {
     auto base = static_cast<uint32_t>(positions_.size());
     appendAttribute(normals_, normals, base, positions.size());
-    appendAttribute(texcoords_, texcoords, base, positions.size());
     positions_.insert(positions_.end(), positions.begin(), positions.end());
     uint32_t first = size();
     for (const glm::uvec3& t : triangles) {
@@ -182,7 +180,6 @@ SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {
             Vec3 p0, p1, p2;
             quadTriangle(quads_[i], second, p0, p1, p2);
             triangleHitPoint(b, p0, p1, p2, si.p, si.pError);
-            si.texcoord = hit.uv;
             break;
         }
         case PrimKind::Triangle: {
@@ -190,7 +187,7 @@ SurfaceInteraction Geometry::interaction(const Ray& ray, const Hit& hit) const {
             const Vec3 p[3] = {positions_[t.x], positions_[t.y], positions_[t.z]};
             TriangleHit b{1.0f - hit.uv.x - hit.uv.y, hit.uv.x, hit.uv.y, hit.t};
             triangleHitPoint(b, p[0], p[1], p[2], si.p, si.pError);
-            if (!normals_.empty() || !texcoords_.empty()) {
+            if (!normals_.empty()) {
                 smoothTriangle(t, b, p, si);
                 return si;
             }
@@ -253,9 +250,6 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
 void Geometry::smoothTriangle(const glm::uvec3& t, const TriangleHit& b, const Vec3 p[3],
                               SurfaceInteraction& si) const {
     si.pShading = si.p;
-    if (!texcoords_.empty())
-        si.texcoord = b.b0 * texcoords_[t.x] + b.b1 * texcoords_[t.y] + b.b2 * texcoords_[t.z];
-    if (normals_.empty()) return;
     const Vec3 vn[3] = {normals_[t.x], normals_[t.y], normals_[t.z]};
     const Vec3 ns = b.b0 * vn[0] + b.b1 * vn[1] + b.b2 * vn[2];
     const float length = glm::length(ns);
@@ -278,7 +272,6 @@ void Geometry::smoothTriangle(const glm::uvec3& t, const TriangleHit& b, const V
 
 void Geometry::shrinkToFit() {
     normals_.shrink_to_fit();
-    texcoords_.shrink_to_fit();
     prims_.shrink_to_fit();
     spheres_.shrink_to_fit();
     quads_.shrink_to_fit();

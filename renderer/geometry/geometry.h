@@ -38,13 +38,12 @@ public:
     uint32_t addSphere(const Sphere& s, uint32_t material);
     uint32_t addQuad(const Vec3& origin, const Vec3& u, const Vec3& v, uint32_t material);
     /// Adds a triangle mesh: vertex positions and counter-clockwise index triples, and optionally
-    /// per-vertex normals (unit, any side) and texture coordinates, each empty or one per
-    /// position. Returns the primitive index of its first triangle; the others follow in order.
-    /// The normal and texture coordinate arrays exist only once a mesh brings them.
+    /// per-vertex normals (unit, any side; empty or one per position). Returns the primitive index
+    /// of its first triangle; the others follow in order. The normal array exists only once a
+    /// mesh brings normals.
     uint32_t addTriangles(const std::vector<Vec3>& positions,
                           const std::vector<glm::uvec3>& triangles, uint32_t material,
-                          const std::vector<Vec3>& normals = {},
-                          const std::vector<Vec2>& texcoords = {});
+                          const std::vector<Vec3>& normals = {});
 
     /// Frees the arrays' spare capacity (growth leaves up to half of each unused): called once
     /// every primitive is in, so that memoryBytes() is what the counts say.
@@ -67,7 +66,6 @@ public:
     uint32_t material(uint32_t prim) const { return prims_[prim].material; }
     bool hasTriangles() const { return !triangles_.empty(); }
     bool hasVertexNormals() const { return !normals_.empty(); }
-    bool hasTexcoords() const { return !texcoords_.empty(); }
     Bounds3 bounds(uint32_t prim) const;
     Bounds3 bounds() const;
 
@@ -123,12 +121,12 @@ public:
     size_t memoryBytes() const;
     size_t meshBytes() const {
         return positions_.capacity() * sizeof(Vec3) + triangles_.capacity() * sizeof(glm::uvec3) +
-               normals_.capacity() * sizeof(Vec3) + texcoords_.capacity() * sizeof(Vec2);
+               normals_.capacity() * sizeof(Vec3);
     }
 
 private:
     uint32_t push(PrimKind kind, uint32_t local, uint32_t material);
-    /// Completes si for a mesh triangle with vertex normals or texture coordinates.
+    /// Completes si for a mesh triangle with vertex normals.
     void smoothTriangle(const glm::uvec3& t, const TriangleHit& b, const Vec3 p[3],
                         SurfaceInteraction& si) const;
 
@@ -137,8 +135,7 @@ private:
     std::vector<Quad> quads_;
     std::vector<Vec3> positions_;
     std::vector<glm::uvec3> triangles_;
-    std::vector<Vec3> normals_;    // per position, once a mesh has them; zero for one without
-    std::vector<Vec2> texcoords_;  // likewise
+    std::vector<Vec3> normals_;  // per position, once a mesh has them; zero for one without
 };
 
 }  // namespace caustic

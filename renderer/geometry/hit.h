@@ -31,8 +31,6 @@ struct SurfaceInteraction {
     /// (the shadow terminator).
     Vec3 pShading;
     Vec2 uv;
-    /// Texture coordinates: a mesh's interpolated, a quad's (s, t); (0, 0) otherwise.
-    Vec2 texcoord{0.0f};
     uint32_t prim = 0;
     uint32_t material = 0;
 };

@@ -16,8 +16,10 @@ struct TriangleMesh {
     std::vector<Vec3> positions;
     std::vector<glm::uvec3> triangles;  ///< Counter-clockwise index triples.
     /// Per position, when the file has them (else empty): unit vertex normals, already
-    /// transformed, and texture coordinates.
+    /// transformed.
     std::vector<Vec3> normals;
+    /// Texture coordinates: always empty, since no material reads them yet (OBJ `vt` and glTF's
+    /// TEXCOORD_0 are not kept).
     std::vector<Vec2> texcoords;
 };
 

@@ -181,8 +181,7 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
             scene.countedMeshes.push_back({counts, material});
         } else {
             TriangleMesh mesh = loadObj(full, transform, at);
-            scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals,
-                                        mesh.texcoords);
+            scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals);
         }
         return;
     }
@@ -200,8 +199,7 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
     }
     if (!asset.bytes) throw InputError(at, "the asset store gave no bytes for asset " + name);
     TriangleMesh mesh = parseMeshBytes(*asset.bytes, asset.format, transform, "asset " + name, at);
-    scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals,
-                                mesh.texcoords);
+    scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals);
 }
 
 void readShape(const Json& j, const std::string& path, Scene& scene, const SceneOptions& options,
