@@ -69,9 +69,13 @@ void appendAttribute(std::vector<T>& all, const std::vector<T>& mesh, size_t bas
 
 uint32_t Geometry::addTriangles(const std::vector<Vec3>& positions,
                                 const std::vector<glm::uvec3>& triangles, uint32_t material,
-                                const std::vector<Vec3>& normals) {
+                                const std::vector<Vec3>& normals,
+                                const std::vector<Vec2>& texcoords,
+                                const std::vector<glm::vec4>& tangents) {
     auto base = static_cast<uint32_t>(positions_.size());
     appendAttribute(normals_, normals, base, positions.size());
+    appendAttribute(texcoords_, texcoords, base, positions.size());
+    appendAttribute(tangents_, tangents, base, positions.size());
     positions_.insert(positions_.end(), positions.begin(), positions.end());
     uint32_t first = size();
     for (const glm::uvec3& t : triangles) {
@@ -272,6 +276,8 @@ void Geometry::smoothTriangle(const glm::uvec3& t, const TriangleHit& b, const V
 
 void Geometry::shrinkToFit() {
     normals_.shrink_to_fit();
+    texcoords_.shrink_to_fit();
+    tangents_.shrink_to_fit();
     prims_.shrink_to_fit();
     spheres_.shrink_to_fit();
     quads_.shrink_to_fit();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "core/bounds.h"
 #include "geometry/hit.h"
@@ -32,18 +33,33 @@ struct PrimHit {
     Vec2 uv;
 };
 
+/// Texture coordinates at a surface point and the point's derivatives along them: what a texture
+/// lookup needs to filter by the pixel's footprint, and a normal map to orient its tangent frame
+/// (pbrt-v4 6.2.2 and 6.5.4). t runs down the image, as in glTF and OpenImageIO.
+struct TextureFrame {
+    Vec2 st{0.0f};
+    Vec3 dpds{0.0f}, dpdt{0.0f};
+    /// A mesh's interpolated MikkTSpace tangent (unnormalized, as MikkTSpace's per-pixel
+    /// reconstruction wants) and its bitangent sign; zero without one (dpds serves instead).
+    Vec3 tangent{0.0f};
+    float bitangentSign = 1.0f;
+};
+
 /// The scene's primitives. Built once by the scene loader, then read-only and thread-safe.
 class Geometry {
 public:
     uint32_t addSphere(const Sphere& s, uint32_t material);
     uint32_t addQuad(const Vec3& origin, const Vec3& u, const Vec3& v, uint32_t material);
     /// Adds a triangle mesh: vertex positions and counter-clockwise index triples, and optionally
-    /// per-vertex normals (unit, any side; empty or one per position). Returns the primitive index
-    /// of its first triangle; the others follow in order. The normal array exists only once a
-    /// mesh brings normals.
+    /// per-vertex normals (unit, any side), texture coordinates and tangents (xyz and the
+    /// bitangent's sign in w), each empty or one per position. Returns the primitive index of its
+    /// first triangle; the others follow in order. Each attribute's array exists only once a mesh
+    /// brings it.
     uint32_t addTriangles(const std::vector<Vec3>& positions,
                           const std::vector<glm::uvec3>& triangles, uint32_t material,
-                          const std::vector<Vec3>& normals = {});
+                          const std::vector<Vec3>& normals = {},
+                          const std::vector<Vec2>& texcoords = {},
+                          const std::vector<glm::vec4>& tangents = {});
 
     /// Frees the arrays' spare capacity (growth leaves up to half of each unused): called once
     /// every primitive is in, so that memoryBytes() is what the counts say.
@@ -66,6 +82,8 @@ public:
     uint32_t material(uint32_t prim) const { return prims_[prim].material; }
     bool hasTriangles() const { return !triangles_.empty(); }
     bool hasVertexNormals() const { return !normals_.empty(); }
+    bool hasTexcoords() const { return !texcoords_.empty(); }
+    bool hasTangents() const { return !tangents_.empty(); }
     Bounds3 bounds(uint32_t prim) const;
     Bounds3 bounds() const;
 
@@ -103,6 +121,11 @@ public:
     }
     /// The surface at a hit: point from the surface parameters, its error bound, normal, material.
     SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
+    /// Texture coordinates and their frame at si, computed only for a material that reads them: a
+    /// mesh's own coordinates (else (0,0), (1,0), (1,1) at its corners, as pbrt-v4), a quad's
+    /// (s, 1 - t) over its edges u and v (its image upright when u points right and v up), a
+    /// sphere's (phi / 2pi, theta / pi).
+    TextureFrame textureFrame(const SurfaceInteraction& si) const;
 
     /// Surface area of a primitive, and a uniform point on it (density 1 / area).
     float area(uint32_t prim) const;
@@ -121,7 +144,8 @@ public:
     size_t memoryBytes() const;
     size_t meshBytes() const {
         return positions_.capacity() * sizeof(Vec3) + triangles_.capacity() * sizeof(glm::uvec3) +
-               normals_.capacity() * sizeof(Vec3);
+               normals_.capacity() * sizeof(Vec3) + texcoords_.capacity() * sizeof(Vec2) +
+               tangents_.capacity() * sizeof(glm::vec4);
     }
 
 private:
@@ -135,7 +159,10 @@ private:
     std::vector<Quad> quads_;
     std::vector<Vec3> positions_;
     std::vector<glm::uvec3> triangles_;
-    std::vector<Vec3> normals_;  // per position, once a mesh has them; zero for one without
+    // Per position, once a mesh has them; zero for a mesh without.
+    std::vector<Vec3> normals_;
+    std::vector<Vec2> texcoords_;
+    std::vector<glm::vec4> tangents_;
 };
 
 }  // namespace caustic

@@ -37,6 +37,10 @@ struct SampleContext {
     /// The render's stop request: loops whose length the settings control poll it, and the
     /// sample's result is discarded once it asks to stop.
     InterruptPoller interrupt;
+    /// Where textured materials become the material at one point (Integrator::shade), and the
+    /// share of a pixel their lookups filter over (the render's 1 / sqrt(spp), as pbrt-v4).
+    MaterialScratch scratch[2];
+    float footprintScale = 1.0f;
 
     bool interrupted() { return interrupt.poll(); }
 };
@@ -70,6 +74,11 @@ protected:
     std::optional<Hit> intersect(const Ray& ray, SampleContext& ctx) const {
         ++ctx.rays;
         return accel_.intersect(ray, kInfinity);
+    }
+    /// The material at si as shading sees it (Scene::shade), in the context's scratch `slot`: a
+    /// caller that holds one point's material while it shades another uses a second slot.
+    const Material& shade(SurfaceInteraction& si, SampleContext& ctx, int slot = 0) const {
+        return scene_.shade(si, ctx.scratch[slot], ctx.footprintScale);
     }
     /// A ray leaving surface point si in unit direction w, offset past the surface's rounding
     /// error.

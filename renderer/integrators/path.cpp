@@ -97,7 +97,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
             break;
         }
         SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
-        const Material& m = *scene_.materials[si.material];
+        const Material& m = shade(si, ctx);
         Vec3 wo = -ray.d;
 
         if (m.isEmissive() && (depth > 0 || ctx.cameraEmission)) {

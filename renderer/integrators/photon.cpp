@@ -131,8 +131,9 @@ std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Co
             return std::nullopt;
         }
         SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
-        const Material& m = *scene_.materials[si.material];
-        if (!m.isSpecular()) return si;
+        // Returned unshaded: the caller shades it (a textured material is never specular).
+        if (!scene_.materials[si.material]->isSpecular()) return si;
+        const Material& m = shade(si, ctx);
         float uc = ctx.sampler.uniform();
         Vec2 u = ctx.sampler.uniform2();
         std::optional<BsdfSample> bs =
@@ -158,7 +159,7 @@ Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, cons
         std::optional<SurfaceInteraction> y = firstDiffuseHit(ray, beta, escaped, ctx);
         // Emitters seen by gather rays are direct light or caustics at x: counted already.
         if (!y) continue;
-        const Material& my = *scene_.materials[y->material];
+        const Material& my = shade(*y, ctx, 1);
         sum += beta * global_->reflected(*y, -ray.d, my, passEstimate_, kAllPhotonPaths, scratch);
     }
     return sum / float(settings_.finalGather);
@@ -172,7 +173,7 @@ Color PhotonIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
     std::optional<SurfaceInteraction> x = firstDiffuseHit(in, beta, escaped, ctx, &bounces);
     if (!x) return escaped ? beta * scene_.escapedRadiance(in.d) : Color(0.0f);
 
-    const Material& m = *scene_.materials[x->material];
+    const Material& m = shade(*x, ctx);
     Vec3 wo = -in.d;
     thread_local std::vector<Neighbor> scratch;
     Color L = sampleDirectLight(*x, wo, m, ctx);

@@ -30,7 +30,7 @@ Color WhittedIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
             continue;
         }
         SurfaceInteraction si = scene_.geometry.interaction(b.ray, *hit);
-        const Material& m = *scene_.materials[si.material];
+        const Material& m = shade(si, ctx);
         Vec3 wo = -b.ray.d;
         if (b.depth > 0 || ctx.cameraEmission) L += b.weight * m.Le(wo, si.n);
 

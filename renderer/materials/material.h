@@ -9,6 +9,9 @@
 
 namespace caustic {
 
+struct MaterialScratch;
+struct TexturePoint;
+
 /// Which quantity a path carries: radiance from the camera, or importance from lights (photons).
 /// Refraction scales radiance by 1/eta^2 but not photon power (Veach 1997, section 5.2).
 enum class TransportMode { Radiance, Importance };
@@ -82,6 +85,19 @@ public:
     /// most of a path's throughput one scattering keeps. 1 unless a material knows better.
     virtual float maxScatterWeight() const { return 1.0f; }
 
+    /// True for a material with inputs read from images: atPoint gives the material a point sees.
+    bool isTextured() const { return textured_; }
+    /// The material at one surface point: its textured inputs looked up there, into `scratch`
+    /// (which the result may live in, until the next call with it); a normal map turns the
+    /// shading normal ns. *this for a material without textures. The result is specular exactly
+    /// when this material is.
+    virtual const Material& atPoint(const TexturePoint& /*point*/, Vec3& /*ns*/,
+                                    MaterialScratch& /*scratch*/) const {
+        return *this;
+    }
+    /// Whether atPoint reads a tangent frame (a normal map): meshes then get MikkTSpace tangents.
+    virtual bool needsTangents() const { return false; }
+
     /// True when every lobe is a Dirac delta (mirror, dielectric): no light sampling is possible.
     bool isSpecular() const { return specular_; }
     bool isEmissive() const { return !isBlack(emission_); }
@@ -91,9 +107,13 @@ public:
         return glm::dot(w, n) > 0.0f ? emission_ : Color(0.0f);
     }
 
+protected:
+    void setTextured() { textured_ = true; }
+
 private:
     Color emission_;
     bool specular_;
+    bool textured_ = false;
 };
 
 }  // namespace caustic

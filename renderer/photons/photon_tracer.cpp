@@ -21,6 +21,7 @@ struct Chunk {
     DVec3 emittedPower{0.0};
     uint64_t rays = 0;
     InterruptPoller interrupt;  // polled every bounce
+    MaterialScratch scratch;    // textured materials at a photon's point
 };
 
 void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracingOptions& options,
@@ -43,7 +44,7 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
         std::optional<Hit> hit = accel.intersect(ray, kInfinity);
         if (!hit) return;
         SurfaceInteraction si = scene.geometry.interaction(ray, *hit);
-        const Material& m = *scene.materials[si.material];
+        const Material& m = scene.shade(si, out.scratch);
         Vec3 wo = -ray.d;
         if (!m.isSpecular()) {
             PhotonPath path = bounces == 0   ? PhotonPath::Direct

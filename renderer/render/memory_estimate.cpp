@@ -59,6 +59,8 @@ struct Counts {
     uint64_t lights = 0, emitters = 0;  // emitters: emissive primitives, each an area light
     bool emits = false;                 // a light of nonzero power exists
     uint64_t normals = 0;               // vertex normals
+    uint64_t texcoords = 0;             // vertices with texture coordinates
+    uint64_t tangents = 0;              // vertices with tangents
 };
 
 Counts countScene(const Scene& scene) {
@@ -70,10 +72,19 @@ Counts countScene(const Scene& scene) {
              scene.emitterPrims.size(),
              !scene.lightSampler.empty()};
     c.normals = g.hasVertexNormals() ? g.positions().size() : 0;
+    c.texcoords = g.hasTexcoords() ? g.positions().size() : 0;
+    c.tangents = g.hasTangents() ? g.positions().size() : 0;
     for (const Scene::CountedMesh& mesh : scene.countedMeshes) {
+        const Material& m = *scene.materials[mesh.material];
+        // A textured material splits vertices by texture coordinates too: one a corner at most.
+        const uint64_t vertices = m.isTextured() && mesh.counts.texcoords
+                                      ? std::max(mesh.counts.vertices, 3 * mesh.counts.triangles)
+                                      : mesh.counts.vertices;
         c.prims += mesh.counts.triangles;
-        c.vertices += mesh.counts.vertices;
-        if (mesh.counts.normals) c.normals += mesh.counts.vertices;
+        c.vertices += vertices;
+        if (mesh.counts.normals) c.normals += vertices;
+        if (m.isTextured()) c.texcoords += vertices;
+        if (m.needsTangents()) c.tangents += vertices;
         c.triangles += mesh.counts.triangles;
         if (scene.materials[mesh.material]->isEmissive()) {
             c.lights += mesh.counts.triangles;
@@ -89,6 +100,7 @@ size_t geometryBytes(const Scene& scene, const Counts& c) {
     return c.prims * sizeof(Geometry::PrimRecord) +
            scene.geometry.spheres().size() * sizeof(Sphere) +
            scene.geometry.quads().size() * sizeof(Quad) + (c.vertices + c.normals) * sizeof(Vec3) +
+           c.texcoords * sizeof(Vec2) + c.tangents * sizeof(glm::vec4) +
            c.triangles * sizeof(glm::uvec3);
 }
 
@@ -153,6 +165,7 @@ MemoryEstimate estimateMemory(const Scene& scene, const RenderSettings& settings
     e.film = filmBytes(scene.camera.width(), scene.camera.height(), settings.adaptive);
     e.lightTables = lightTableBytes(c) + scene.environmentBytes;
     e.photonMaps = photonPeakBytes(scene, settings, c);
+    e.textures = scene.textureBytes;
     return e;
 }
 

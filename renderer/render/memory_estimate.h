@@ -18,8 +18,9 @@ struct MemoryEstimate {
     size_t film = 0;         ///< Exact.
     size_t lightTables = 0;  ///< A bound.
     size_t photonMaps = 0;   ///< A bound on one pass's peak (photon and ppm only), see .cpp.
+    size_t textures = 0;     ///< The texture cache's bound, for a scene with image textures.
     /// What is built before the first pass: everything but the photon maps.
-    size_t beforePasses() const { return geometry + accelerator + film + lightTables; }
+    size_t beforePasses() const { return geometry + accelerator + film + lightTables + textures; }
     size_t total() const { return beforePasses() + photonMaps; }
 };
 

@@ -2,7 +2,9 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <mutex>
 #include <stdexcept>
 
@@ -58,6 +60,7 @@ struct TileRenderer {
         SampleContext ctx;
         ctx.interrupt = InterruptPoller(&interrupt);
         ctx.cameraEmission = seen == nullptr;
+        ctx.footprintScale = std::clamp(1.0f / std::sqrt(float(settings.spp)), 0.125f, 1.0f);
         for (int y = ty; y < y1; ++y) {
             for (int x = tx; x < x1; ++x) {
                 uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
@@ -124,8 +127,8 @@ void RenderSession::checkMemory() const {
     const size_t limit = settings_.memoryLimitBytes();
     const int width = scene_.camera.width(), height = scene_.camera.height();
     const size_t film = filmBytes(width, height, settings_.adaptive);
-    const size_t built =
-        scene_.geometry.memoryBytes() + accel_->memoryBytes() + film + scene_.lightTableBytes();
+    const size_t built = scene_.geometry.memoryBytes() + accel_->memoryBytes() + film +
+                         scene_.lightTableBytes() + scene_.textureBytes;
     if (built > limit)
         throw InputError("/settings/memory_limit",
                          "the scene, its accelerator and the film already take " +
@@ -285,6 +288,7 @@ MemoryStats RenderSession::memory(const Film& film) const {
                   sampleMap_.capacity() * sizeof(uint16_t);
     memory.lightTables = scene_.lightTableBytes();
     memory.photonMaps = integrator_->memoryBytes();
+    if (scene_.textures) memory.textures = size_t(scene_.textures->stats().memoryUsed);
     return memory;
 }
 

@@ -5,13 +5,10 @@
 namespace caustic {
 
 nlohmann::json MemoryStats::toJson() const {
-    return {{"geometry", geometry},
-            {"meshes", meshes},
-            {"accelerator", accelerator},
-            {"film", film},
-            {"light_tables", lightTables},
-            {"photon_maps", photonMaps},
-            {"total", total()}};
+    return {{"geometry", geometry},        {"meshes", meshes},
+            {"accelerator", accelerator},  {"film", film},
+            {"light_tables", lightTables}, {"photon_maps", photonMaps},
+            {"textures", textures},        {"total", total()}};
 }
 
 nlohmann::json RenderStats::toJson() const {

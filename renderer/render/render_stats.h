@@ -20,8 +20,11 @@ struct MemoryStats {
     size_t film = 0;         ///< Pass accumulators and the pass buffer.
     size_t lightTables = 0;  ///< Light selection by power and the emitter index.
     size_t photonMaps = 0;   ///< Photon maps, for the photon-mapping integrators.
+    /// Image textures' tiles held in the texture cache at the end (at most its bound, which a
+    /// worker's renders share).
+    size_t textures = 0;
     size_t total() const {
-        return geometry + meshes + accelerator + film + lightTables + photonMaps;
+        return geometry + meshes + accelerator + film + lightTables + photonMaps + textures;
     }
     nlohmann::json toJson() const;
 };

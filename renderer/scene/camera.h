@@ -32,6 +32,12 @@ public:
         return true;
     }
 
+    /// How far a point p on a surface of unit normal n moves per pixel across the image, in dpdx
+    /// and dpdy: the rays through the neighbouring pixels met on the plane of p, as pbrt-v4's
+    /// CameraBase::Approximate_dp_dxy (10.1.1) does at every bounce of every path, and scaled by
+    /// `scale` (a pixel's share of its samples). Zero where a neighbouring ray misses the plane.
+    void approximateDpDxy(const Vec3& p, const Vec3& n, float scale, Vec3& dpdx, Vec3& dpdy) const;
+
     /// The same camera with another image size: the vertical field of view is kept, the
     /// horizontal one follows the new aspect ratio. Requires width, height >= 1.
     Camera resized(int width, int height) const;

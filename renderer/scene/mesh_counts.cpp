@@ -58,6 +58,7 @@ private:
             case State::AfterV:  // "v x y z"; "vn", "vt" and "vp" are other records
                 if (space(c)) ++counts_.vertices;
                 if (c == 'n') counts_.normals = true;
+                if (c == 't') counts_.texcoords = true;
                 state_ = c == '\n' ? State::LineStart : State::SkipLine;
                 return;
             case State::AfterF:

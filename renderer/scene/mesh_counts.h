@@ -13,11 +13,13 @@
 namespace caustic {
 
 struct MeshCounts {
-    /// `v` lines: the positions loadObj keeps; with normals, a bound on the vertices it makes
-    /// (one per face corner at most: an OBJ indexes positions and normals apart).
+    /// `v` lines: the positions loadObj keeps; with normals, a bound on the vertices it makes (one
+    /// per face corner at most: an OBJ indexes positions and normals apart). A textured material
+    /// keeps texture coordinates too, which the same bound covers (3 x triangles).
     uint64_t vertices = 0;
     uint64_t triangles = 0;  ///< Triangles of the `f` lines once triangulated.
     bool normals = false;    ///< Vertex normals (`vn` lines), a Vec3 a vertex more.
+    bool texcoords = false;  ///< Texture coordinates (`vt` lines), kept for a textured material.
 };
 
 /// Counts the `v` lines and the triangles of the `f` lines of an OBJ file: a face of n corners

@@ -83,14 +83,14 @@ void MeshErrors::overLimit(const std::string& what) const {
 
 TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
                             const MeshTransform& transform, const std::string& name,
-                            const std::string& path, uint64_t maxTriangles) {
+                            const std::string& path, uint64_t maxTriangles, bool texcoords) {
     MeshErrors errors{name, path};
     if (format == MeshFormat::Glb) return parseGlb(bytes, transform, errors);
     // The line pass names the line at fault; then the loader every scene file goes through.
     checkObjLines(bytes, errors, maxTriangles);
     ViewBuffer buffer(bytes);
     std::istream in(&buffer);
-    return parseObj(in, name, transform, path);
+    return parseObj(in, name, transform, path, texcoords);
 }
 
 MeshBounds boundsOf(const TriangleMesh& mesh) {

@@ -28,6 +28,8 @@ std::optional<MeshFormat> meshFormatNamed(std::string_view name);  ///< "obj", "
 /// the glTF object ("accessor 3: ...", "buffer 0: ...") at fault: truncated, binary garbage,
 /// NaN/infinite vertex, index out of range, no triangles.
 ///
+/// With `texcoords` (for a textured material) an OBJ's texture coordinates are kept too.
+///
 /// A .glb gives the meshes of every node of every scene (all root nodes when it has no scene),
 /// each under its node's world transform and then `transform`; materials are ignored. Nodes may
 /// instance one mesh many times, so the instanced total is bounded (kMaxGlbElements). An OBJ's
@@ -36,7 +38,8 @@ std::optional<MeshFormat> meshFormatNamed(std::string_view name);  ///< "obj", "
 /// Thread-safe.
 TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
                             const MeshTransform& transform, const std::string& name,
-                            const std::string& path, uint64_t maxTriangles = uint64_t(1) << 25);
+                            const std::string& path, uint64_t maxTriangles = uint64_t(1) << 25,
+                            bool texcoords = false);
 
 /// The InputError of a mesh file over parseMeshBytes' `maxTriangles`: a limit, which a service
 /// answers as one, rather than a malformed file.

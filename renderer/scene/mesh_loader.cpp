@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "core/error.h"
@@ -70,16 +71,16 @@ fs::path resolveAsset(const fs::path& assetsDir, const std::string& name, const 
     return full;
 }
 
-TriangleMesh loadObj(const fs::path& file, const MeshTransform& transform,
-                     const std::string& path) {
+TriangleMesh loadObj(const fs::path& file, const MeshTransform& transform, const std::string& path,
+                     bool texcoords) {
     std::ifstream in(file, std::ios::binary);
     std::string name = file.filename().string();
     if (!in) throw InputError(path, "cannot read OBJ file " + name + ": cannot open it");
-    return parseObj(in, name, transform, path);
+    return parseObj(in, name, transform, path, texcoords);
 }
 
 TriangleMesh parseObj(std::istream& in, const std::string& name, const MeshTransform& transform,
-                      const std::string& path) {
+                      const std::string& path, bool texcoords) {
     // Without a material reader tinyobjloader skips `mtllib`; its file API would open the named
     // libraries relative to the OBJ's folder, anywhere ("../../../dev/zero"; issue 12, bug 4).
     tinyobj::attrib_t attrib;
@@ -103,8 +104,8 @@ TriangleMesh parseObj(std::istream& in, const std::string& name, const MeshTrans
                              "vertex " + std::to_string(i + 1) + " of " + name + " is not finite");
         mesh.positions.push_back(p);
     }
-    // Texture coordinates (`vt`) are not kept: no material reads them yet.
-    const bool smooth = !attrib.normals.empty();
+    if (!texcoords) attrib.texcoords.clear();
+    const bool perCorner = !attrib.normals.empty() || !attrib.texcoords.empty();
     for (const tinyobj::shape_t& shape : shapes) {
         const std::vector<tinyobj::index_t>& idx = shape.mesh.indices;
         for (size_t f = 0; f + 2 < idx.size(); f += 3) {
@@ -115,7 +116,7 @@ TriangleMesh parseObj(std::istream& in, const std::string& name, const MeshTrans
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, name + " has no faces");
-    if (smooth) addObjVertexAttributes(attrib, shapes, transform, name, path, mesh);
+    if (perCorner) addObjVertexAttributes(attrib, shapes, transform, name, path, mesh);
     return mesh;
 }
 
@@ -125,26 +126,45 @@ void addObjVertexAttributes(const tinyobj::attrib_t& attrib,
                             const std::vector<tinyobj::shape_t>& shapes,
                             const MeshTransform& transform, const std::string& name,
                             const std::string& path, TriangleMesh& mesh) {
-    // OBJ indexes positions and normals apart ("f 1//4"); a vertex here is each distinct pair, in
-    // order of first use. A corner without a normal gets zero (flat shading there).
+    // OBJ indexes positions, normals and texture coordinates apart ("f 1/7/4"); a vertex here is
+    // each distinct triple, in order of first use. A corner without a normal gets zero (flat
+    // shading there), one without texture coordinates (0, 0).
     const size_t normalCount = attrib.normals.size() / 3;
-    std::map<std::pair<int, int>, uint32_t> vertexOf;
+    const size_t texcoordCount = attrib.texcoords.size() / 2;
+    const bool hasNormals = normalCount > 0, hasTexcoords = texcoordCount > 0;
+    std::map<std::tuple<int, int, int>, uint32_t> vertexOf;
     std::vector<Vec3> positions;
     std::vector<glm::uvec3> triangles;
     auto vertex = [&](const tinyobj::index_t& i) {
-        if (i.normal_index >= 0 && size_t(i.normal_index) >= normalCount)
+        // Texture coordinates not asked for are not read, nor do they split vertices.
+        const int texcoordIndex = hasTexcoords ? i.texcoord_index : -1;
+        if ((i.normal_index >= 0 && size_t(i.normal_index) >= normalCount) ||
+            (texcoordIndex >= 0 && size_t(texcoordIndex) >= texcoordCount))
             throw InputError(path, name + " has a face index out of range");
-        auto [it, added] =
-            vertexOf.try_emplace({i.vertex_index, i.normal_index}, uint32_t(positions.size()));
+        auto [it, added] = vertexOf.try_emplace({i.vertex_index, i.normal_index, texcoordIndex},
+                                                uint32_t(positions.size()));
         if (!added) return it->second;
         positions.push_back(mesh.positions[size_t(i.vertex_index)]);
-        Vec3 n(0.0f);
-        if (i.normal_index >= 0) {
-            const float* a = &attrib.normals[3 * size_t(i.normal_index)];
-            n = transform.applyToNormal(Vec3(a[0], a[1], a[2]));
+        if (hasNormals) {
+            Vec3 n(0.0f);
+            if (i.normal_index >= 0) {
+                const float* a = &attrib.normals[3 * size_t(i.normal_index)];
+                n = transform.applyToNormal(Vec3(a[0], a[1], a[2]));
+            }
+            if (!isFinite(n)) throw InputError(path, "a normal of " + name + " is not finite");
+            mesh.normals.push_back(n);
         }
-        if (!isFinite(n)) throw InputError(path, "a normal of " + name + " is not finite");
-        mesh.normals.push_back(n);
+        if (hasTexcoords) {
+            Vec2 st(0.0f);
+            if (texcoordIndex >= 0) {
+                const float* a = &attrib.texcoords[2 * size_t(texcoordIndex)];
+                // OBJ's v runs up the image; glTF's and OpenImageIO's t runs down it.
+                st = Vec2(a[0], 1.0f - a[1]);
+            }
+            if (!std::isfinite(st.x) || !std::isfinite(st.y))
+                throw InputError(path, "a texture coordinate of " + name + " is not finite");
+            mesh.texcoords.push_back(st);
+        }
         return it->second;
     };
     for (const tinyobj::shape_t& shape : shapes) {

@@ -18,8 +18,8 @@ struct TriangleMesh {
     /// Per position, when the file has them (else empty): unit vertex normals, already
     /// transformed.
     std::vector<Vec3> normals;
-    /// Texture coordinates: always empty, since no material reads them yet (OBJ `vt` and glTF's
-    /// TEXCOORD_0 are not kept).
+    /// Per position, when the file has them (else empty): texture coordinates (s, t), t running
+    /// down the image as in glTF (an OBJ's `vt` v is flipped).
     std::vector<Vec2> texcoords;
 };
 
@@ -39,13 +39,15 @@ struct MeshTransform {
 std::filesystem::path resolveAsset(const std::filesystem::path& assetsDir, const std::string& name,
                                    const std::string& path);
 
-/// Loads an OBJ file's faces (polygons are triangulated) and applies `transform`. Throws InputError
-/// at `path` for unreadable files or files without faces. Opens no other file: materials come from
-/// the scene, so `mtllib` lines are ignored (a name there could lead out of the assets folder).
+/// Loads an OBJ file's faces (polygons are triangulated) and applies `transform`, with the vertex
+/// normals the file has and, with `texcoords` (for a textured material), its texture
+/// coordinates. Throws InputError at `path` for unreadable files or files without faces. Opens no
+/// other file: materials come from the scene, so `mtllib` lines are ignored (a name there could
+/// lead out of the assets folder).
 TriangleMesh loadObj(const std::filesystem::path& file, const MeshTransform& transform,
-                     const std::string& path);
+                     const std::string& path, bool texcoords = false);
 /// The same from OBJ text in a stream; `name` stands for the file in messages.
 TriangleMesh parseObj(std::istream& in, const std::string& name, const MeshTransform& transform,
-                      const std::string& path);
+                      const std::string& path, bool texcoords = false);
 
 }  // namespace caustic

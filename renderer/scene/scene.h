@@ -17,9 +17,11 @@
 #include "lights/light_sampler.h"
 #include "lights/local_light_sampler.h"
 #include "materials/material.h"
+#include "materials/material_scratch.h"
 #include "scene/camera.h"
 #include "scene/mesh_counts.h"
 #include "scene/mesh_file.h"
+#include "textures/texture_store.h"
 
 namespace caustic {
 
@@ -64,6 +66,19 @@ struct Scene {
     }
 
     const Material& material(uint32_t prim) const { return *materials[geometry.material(prim)]; }
+    /// The material at si as shading sees it: the scene's, or for a textured one the material its
+    /// textures make at si (in `scratch`), filtered over a pixel's footprint there times
+    /// `footprintScale`; a normal map turns si.ns.
+    const Material& shade(SurfaceInteraction& si, MaterialScratch& scratch,
+                          float footprintScale = 1.0f) const {
+        const Material& m = *materials[si.material];
+        return m.isTextured() ? shadeTextured(m, si, scratch, footprintScale) : m;
+    }
+
+    /// The images the materials read (null when none does), and the bytes they may hold in
+    /// memory: the store's cache bound.
+    std::shared_ptr<TextureStore> textures;
+    size_t textureBytes = 0;
     /// The index in `lights` of an emissive primitive's area light; nullopt for a primitive that
     /// does not emit.
     std::optional<size_t> areaLightOf(uint32_t prim) const;
@@ -72,6 +87,10 @@ struct Scene {
         return lightSampler.memoryBytes() + emitterPrims.capacity() * sizeof(uint32_t) +
                environmentBytes;
     }
+
+private:
+    const Material& shadeTextured(const Material& m, SurfaceInteraction& si,
+                                  MaterialScratch& scratch, float footprintScale) const;
 };
 
 /// An uploaded mesh as the scene loader sees it: what the service stored at upload.
@@ -99,6 +118,9 @@ struct SceneOptions {
     /// Finds the uploaded meshes that "asset" shapes name; empty: an "asset" shape is an
     /// InputError at its path.
     MeshAssetResolver resolveMeshAsset = {};
+    /// Where textures' images are prepared and cached: a worker's store, shared by its renders;
+    /// null: a scene with textures makes a store of its own.
+    std::shared_ptr<TextureStore> textures = nullptr;
 };
 
 /// Builds a scene from its JSON document (DESIGN.md, "Scene format"). Throws InputError naming the

@@ -12,11 +12,14 @@
 #include "materials/metallic_roughness.h"
 #include "materials/mirror.h"
 #include "materials/rough_dielectric.h"
+#include "materials/textured_metallic_roughness.h"
 #include "scene/json_reader.h"
 #include "scene/light_loader.h"
 #include "scene/mesh_file.h"
 #include "scene/mesh_loader.h"
+#include "scene/mesh_tangents.h"
 #include "scene/scene.h"
+#include "scene/texture_loader.h"
 
 namespace caustic {
 namespace {
@@ -83,7 +86,32 @@ std::unique_ptr<Material> readConductor(JsonObject& o, const Color& emission) {
     return std::make_unique<Conductor>(roughness, fresnel, multipleScattering, emission);
 }
 
-std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path) {
+// glTF's metallic-roughness material, with its optional textures (textured_metallic_roughness.h).
+std::unique_ptr<Material> readMetallicRoughness(JsonObject& o, const Color& emission,
+                                                const SceneOptions& options, Scene& scene) {
+    // glTF 2.0's defaults: white, fully metallic, fully rough.
+    TexturedMetallicRoughness::Inputs in;
+    in.baseColor = readReflectance(o, "base_color", Color(1.0f));
+    in.metallic = o.number("metallic", 1.0f);
+    if (!(in.metallic >= 0.0f && in.metallic <= 1.0f))
+        throw InputError(o.pathOf("metallic"), "must be in [0, 1]");
+    in.roughness = o.find("roughness") ? readRoughness(o) : 1.0f;
+    in.multipleScattering = o.boolean("multiple_scattering", true);
+    in.emission = emission;
+    in.baseColorTexture =
+        readTexture(o, "base_color_texture", TextureEncoding::Srgb, options, scene);
+    in.metallicRoughnessTexture =
+        readTexture(o, "metallic_roughness_texture", TextureEncoding::Linear, options, scene);
+    in.normalTexture =
+        readTexture(o, "normal_texture", TextureEncoding::Linear, options, scene, &in.normalScale);
+    if (in.baseColorTexture.named || in.metallicRoughnessTexture.named || in.normalTexture.named)
+        return std::make_unique<TexturedMetallicRoughness>(in, scene.textures);
+    return std::make_unique<MetallicRoughness>(in.baseColor, in.metallic, in.roughness,
+                                               in.multipleScattering, emission);
+}
+
+std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path,
+                                       const SceneOptions& options, Scene& scene) {
     JsonObject o(j, path);
     std::string type = o.choice("type", kMaterialTypes);
     Color emission = o.color("emission", Color(0.0f));
@@ -95,15 +123,7 @@ std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path) {
     } else if (type == "conductor") {
         m = readConductor(o, emission);
     } else if (type == "metallic_roughness") {
-        // glTF 2.0's defaults: white, fully metallic, fully rough.
-        const Color base = readReflectance(o, "base_color", Color(1.0f));
-        const float metallic = o.number("metallic", 1.0f);
-        if (!(metallic >= 0.0f && metallic <= 1.0f))
-            throw InputError(o.pathOf("metallic"), "must be in [0, 1]");
-        const float roughness = o.find("roughness") ? readRoughness(o) : 1.0f;
-        const bool multipleScattering = o.boolean("multiple_scattering", true);
-        m = std::make_unique<MetallicRoughness>(base, metallic, roughness, multipleScattering,
-                                                emission);
+        m = readMetallicRoughness(o, emission, options, scene);
     } else {
         float ior = o.number("ior", 1.5f);
         if (!(ior > 0.0f)) throw InputError(o.pathOf("ior"), "must be > 0");
@@ -153,6 +173,16 @@ bool isAssetId(const std::string& id) {
            });
 }
 
+// A loaded mesh into the scene, with the attributes its material reads: texture coordinates for
+// a textured one (loaded only then), and tangents (MikkTSpace's) for a normal map.
+void addMesh(TriangleMesh mesh, uint32_t material, Scene& scene) {
+    const Material& m = *scene.materials[material];
+    std::vector<glm::vec4> tangents;
+    if (m.needsTangents()) tangents = generateTangents(mesh);
+    scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals,
+                                mesh.texcoords, tangents);
+}
+
 // A mesh from exactly one of "file" (an OBJ in the assets folder) or "asset" (an uploaded mesh).
 void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions& options,
               const Frame& frame) {
@@ -165,6 +195,7 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
                          "a mesh needs \"file\" (an OBJ in the assets folder) or "
                          "\"asset\" (an uploaded mesh's id)");
     const std::string key = fileField ? "file" : "asset";
+    const bool textured = scene.materials[material]->isTextured();
     const std::string at = o.pathOf(key);
     const std::string name = o.string(key);
     // Without a transform the mesh stays where its file puts it, relative to the camera.
@@ -180,8 +211,7 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
                 options.meshCounts ? options.meshCounts->counts(full, at) : countObj(full, at);
             scene.countedMeshes.push_back({counts, material});
         } else {
-            TriangleMesh mesh = loadObj(full, transform, at);
-            scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals);
+            addMesh(loadObj(full, transform, at, textured), material, scene);
         }
         return;
     }
@@ -198,8 +228,9 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
         return;
     }
     if (!asset.bytes) throw InputError(at, "the asset store gave no bytes for asset " + name);
-    TriangleMesh mesh = parseMeshBytes(*asset.bytes, asset.format, transform, "asset " + name, at);
-    scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals);
+    addMesh(parseMeshBytes(*asset.bytes, asset.format, transform, "asset " + name, at,
+                           uint64_t(1) << 25, textured),
+            material, scene);
 }
 
 void readShape(const Json& j, const std::string& path, Scene& scene, const SceneOptions& options,
@@ -268,7 +299,8 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
     JsonObject materialsObject(materials, "/materials");
     for (auto it = materials.begin(); it != materials.end(); ++it) {
         materialsObject.find(it.key());
-        scene->materials.push_back(readMaterial(it.value(), jsonPointer("/materials", it.key())));
+        scene->materials.push_back(
+            readMaterial(it.value(), jsonPointer("/materials", it.key()), options, *scene));
         scene->materialNames.push_back(it.key());
     }
 

@@ -150,6 +150,7 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
             SceneOptions options;
             options.assetsDir = config_.assetsDir;
             options.resolveMeshAsset = storedAssets(store_);
+            options.textures = textures_;
             cache.scene = loadScene(job.scene, options);
             cache.settings = parseSettings(job.settings);
             applyResolution(*cache.scene, cache.settings, options);

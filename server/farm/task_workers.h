@@ -48,6 +48,9 @@ private:
     std::atomic<bool> stopping_{false};
     std::mutex mutex_;
     std::condition_variable wake_;
+    /// The image textures of every render here, through one bounded cache.
+    std::shared_ptr<TextureStore> textures_ =
+        std::make_shared<TextureStore>(TextureStore::Options{});
 };
 
 }  // namespace caustic::server

@@ -113,6 +113,7 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
         SceneOptions options;
         options.assetsDir = config_.assetsDir;
         options.resolveMeshAsset = storedAssets(store_);
+        options.textures = textures_;
         std::unique_ptr<Scene> scene = loadScene(job.scene, options);
         settings = parseSettings(job.settings);
         applyResolution(*scene, settings, options);

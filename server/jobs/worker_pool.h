@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -17,6 +18,7 @@
 #include "server_config.h"
 #include "store/job_files.h"
 #include "store/job_store.h"
+#include "textures/texture_store.h"
 
 namespace caustic::server {
 
@@ -63,6 +65,9 @@ private:
     std::atomic<bool> stopping_{false};
     std::mutex mutex_;
     std::condition_variable wake_;
+    /// The image textures of every render here, through one bounded cache.
+    std::shared_ptr<TextureStore> textures_ =
+        std::make_shared<TextureStore>(TextureStore::Options{});
 };
 
 }  // namespace caustic::server

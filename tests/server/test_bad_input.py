@@ -11,7 +11,9 @@ import json
 import os
 import shutil
 import socket
+import struct
 import tempfile
+import zlib
 
 import pytest
 import requests
@@ -19,6 +21,17 @@ import requests
 from conftest import TINY_SCENE, assert_problem
 from hostile_requests import (CASES, MAX_REQUEST_BYTES, NO_BODY, TOKEN, TRIANGLE_OBJ, UNKNOWN_ID,
                               scene_with, with_settings)
+
+
+def grey_png(width, height):
+    """A valid 8-bit grey PNG, written by hand (no imaging library needed)."""
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+    rows = b"".join(b"\x00" + b"\x80" * width for _ in range(height))
+    return (b"\x89PNG\r\n\x1a\n"
+            + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
 
 
 @pytest.fixture(scope="module")
@@ -34,6 +47,10 @@ def assets():
     os.symlink("/etc/passwd", os.path.join(inside, "passwd-link.obj"))
     os.symlink(os.path.join(root, "outside.obj"), os.path.join(inside, "outside-link.obj"))
     os.symlink("/etc", os.path.join(inside, "etc-link"))
+    with open(os.path.join(inside, "grey.png"), "wb") as f:
+        f.write(grey_png(4, 4))
+    with open(os.path.join(inside, "broken.png"), "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n and then nothing a PNG holds")
     yield inside
     shutil.rmtree(root, ignore_errors=True)
 
@@ -133,6 +150,29 @@ def test_mesh_inside_the_assets_folder_renders(servers):
         {"type": "mesh", "file": "tiny.obj", "material": "lamp"}]), "settings": {"spp": 1}})
     assert r.status_code == 202, r.text
     assert server.wait(r.json()["id"], {"succeeded", "failed"})["state"] == "succeeded"
+    assert server.delete(f"/api/jobs/{r.json()['id']}").status_code == 204
+
+
+def textured(texture):
+    scene = scene_with()
+    scene["shapes"].append({"type": "sphere", "center": [0, 0, 0], "radius": 0.5,
+                            "material": "textured"})
+    scene["materials"]["textured"] = {"type": "metallic_roughness",
+                                      "base_color_texture": texture}
+    return {"scene": scene, "settings": {"spp": 1}}
+
+
+def test_bad_textures_are_422_at_their_path_and_a_good_one_renders(servers):
+    server = servers("main")
+    at = "/scene/materials/textured/base_color_texture"
+    assert_problem(server.submit(textured("missing.png")), 422, at, "no file")
+    assert_problem(server.submit(textured("broken.png")), 422, at, "broken.png")
+    assert_problem(server.submit(textured({"file": "grey.png", "filter": "cubic"})), 422,
+                   at + "/filter", "anisotropic")
+    r = server.submit(textured({"file": "grey.png", "transform": {"scale": [4, 4]}}))
+    assert r.status_code == 202, r.text
+    job = server.wait(r.json()["id"], {"succeeded", "failed"})
+    assert job["state"] == "succeeded", job
     assert server.delete(f"/api/jobs/{r.json()['id']}").status_code == 204
 
 

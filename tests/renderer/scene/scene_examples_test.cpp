@@ -177,3 +177,23 @@ TEST(SceneLoaderDefaults, PointLightsAndEmittersBecomeLights) {
 
 }  // namespace
 }  // namespace caustic
+
+namespace caustic {
+namespace {
+
+// Every scene in scenes/ loads from a fresh checkout: the files it names (meshes, the sky, the
+// textures) are in the repository's assets folder.
+TEST(ExampleScenes, EveryExampleLoadsWithTheRepositorysAssets) {
+    size_t examples = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(CAUSTIC_SOURCE_DIR "/scenes")) {
+        if (entry.path().extension() != ".json") continue;
+        ++examples;
+        const std::string name = entry.path().stem().string();
+        EXPECT_NO_THROW(loadScene(testing::exampleScene(name), testing::repoSceneOptions()))
+            << name;
+    }
+    EXPECT_GE(examples, 9u);
+}
+
+}  // namespace
+}  // namespace caustic
