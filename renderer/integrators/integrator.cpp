@@ -16,7 +16,8 @@ bool Integrator::unoccluded(const SurfaceInteraction& si, const LightSample& ls,
     float dist = glm::length(d);
     if (!(dist > 0.0f)) return true;
     ++ctx.rays;
-    return !accel_.occluded(Ray{from, d / dist}, dist * (1.0f - kShadowEpsilon));
+    return !occludedVisible(scene_, accel_, Ray{from, d / dist}, dist * (1.0f - kShadowEpsilon),
+                            ctx.rays);
 }
 
 Color Integrator::sampleDirectLight(const SurfaceInteraction& si, const Vec3& wo, const Material& m,

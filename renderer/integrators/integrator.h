@@ -14,6 +14,7 @@
 #include "core/sampler.h"
 #include "lights/light.h"
 #include "scene/scene.h"
+#include "scene/visibility.h"
 
 namespace caustic {
 
@@ -73,7 +74,7 @@ protected:
     /// Closest hit along the ray, counting it.
     std::optional<Hit> intersect(const Ray& ray, SampleContext& ctx) const {
         ++ctx.rays;
-        return accel_.intersect(ray, kInfinity);
+        return intersectVisible(scene_, accel_, ray, kInfinity, ctx.rays);
     }
     /// The material at si as shading sees it (Scene::shade), in the context's scratch `slot`: a
     /// caller that holds one point's material while it shades another uses a second slot.

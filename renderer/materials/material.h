@@ -98,6 +98,13 @@ public:
     /// Whether atPoint reads a tangent frame (a normal map): meshes then get MikkTSpace tangents.
     virtual bool needsTangents() const { return false; }
 
+    /// Whether parts of the surface may be cut out (glTF's alpha modes mask and blend): rays pass
+    /// through those as if nothing were there (scene/visibility.h).
+    bool hasAlpha() const { return alpha_; }
+    /// Whether a ray passes through the surface at the point: below the cutoff (mask), or with
+    /// probability 1 - alpha from the ray's own uniform number u (blend: stochastic transparency).
+    virtual bool cutOut(const TexturePoint& /*point*/, float /*u*/) const { return false; }
+
     /// True when every lobe is a Dirac delta (mirror, dielectric): no light sampling is possible.
     bool isSpecular() const { return specular_; }
     bool isEmissive() const { return !isBlack(emission_); }
@@ -109,11 +116,13 @@ public:
 
 protected:
     void setTextured() { textured_ = true; }
+    void setAlpha() { alpha_ = true; }
 
 private:
     Color emission_;
     bool specular_;
     bool textured_ = false;
+    bool alpha_ = false;
 };
 
 }  // namespace caustic

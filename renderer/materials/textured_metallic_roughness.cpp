@@ -12,6 +12,25 @@ TexturedMetallicRoughness::TexturedMetallicRoughness(const Inputs& inputs,
       factors_(inputs.baseColor, inputs.metallic, inputs.roughness, inputs.multipleScattering,
                inputs.emission) {
     setTextured();
+    if (in_.alphaMode != AlphaMode::Opaque) setAlpha();
+}
+
+bool TexturedMetallicRoughness::cutOut(const TexturePoint& point, float u) const {
+    float alpha = in_.alpha;
+    if (in_.baseColorTexture) {
+        float a;
+        in_.baseColorTexture.lookup(*store_, point.query, 3, 1, &a);
+        alpha *= a;
+    }
+    switch (in_.alphaMode) {
+        case AlphaMode::Opaque:
+            return false;
+        case AlphaMode::Mask:
+            return alpha < in_.alphaCutoff;
+        case AlphaMode::Blend:
+            return u >= alpha;
+    }
+    return false;
 }
 
 const Material& TexturedMetallicRoughness::atPoint(const TexturePoint& point, Vec3& ns,

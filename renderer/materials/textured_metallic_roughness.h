@@ -1,8 +1,9 @@
 // glTF's metallic-roughness material with its inputs read from images (glTF 2.0, "Materials"):
 // base colour = factor x texture (sRGB, its alpha unused here), metallic and roughness = factors x
 // the B and G channels of one linear texture, and a tangent-space normal map (linear, scaled in
-// x and y by `normalScale`). At each point it becomes a MetallicRoughness of the values found
-// there (metallic_roughness.h).
+// x and y by `normalScale`), and glTF's alpha: `alpha` times the base colour texture's alpha
+// channel, cut out below a cutoff (mask) or passed through with probability 1 - alpha (blend). At
+// each point it becomes a MetallicRoughness of the values found there (metallic_roughness.h).
 #pragma once
 
 #include <memory>
@@ -13,6 +14,8 @@
 
 namespace caustic {
 
+enum class AlphaMode { Opaque, Mask, Blend };
+
 class TexturedMetallicRoughness final : public Material {
 public:
     struct Inputs {
@@ -22,6 +25,9 @@ public:
         Color emission{0.0f};
         TextureSlot baseColorTexture, metallicRoughnessTexture, normalTexture;
         float normalScale = 1.0f;
+        AlphaMode alphaMode = AlphaMode::Opaque;
+        float alpha = 1.0f;        ///< glTF's baseColorFactor[3]
+        float alphaCutoff = 0.5f;  ///< For Mask.
     };
     /// `store` holds the slots' images and outlives the material; it may be null when no slot has
     /// an image (a scene loaded only to be admitted).
@@ -30,6 +36,7 @@ public:
     const Material& atPoint(const TexturePoint& point, Vec3& ns,
                             MaterialScratch& scratch) const override;
     bool needsTangents() const override { return in_.normalTexture.named; }
+    bool cutOut(const TexturePoint& point, float u) const override;
 
     // Off a point (where nothing calls atPoint): the material of the factors alone.
     Color f(const Vec3& wo, const Vec3& wi, const Vec3& n) const override {

@@ -6,6 +6,7 @@
 
 #include "core/rng.h"
 #include "materials/surface_bsdf.h"
+#include "scene/visibility.h"
 
 namespace caustic {
 namespace {
@@ -41,7 +42,7 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
     for (int bounces = 0; bounces < options.maxDepth; ++bounces) {
         if (out.interrupt.poll()) return;
         ++out.rays;
-        std::optional<Hit> hit = accel.intersect(ray, kInfinity);
+        std::optional<Hit> hit = intersectVisible(scene, accel, ray, kInfinity, out.rays);
         if (!hit) return;
         SurfaceInteraction si = scene.geometry.interaction(ray, *hit);
         const Material& m = scene.shade(si, out.scratch);

@@ -1,5 +1,7 @@
 #include "render/seen_emission.h"
 
+#include "scene/visibility.h"
+
 namespace caustic {
 
 SeenEmission::SeenEmission(const Scene& scene, const Accelerator& accel)
@@ -48,7 +50,7 @@ bool SeenEmission::mayHitEmitter(const Ray& ray) const {
 Color SeenEmission::along(const Ray& ray, uint64_t& rays) const {
     if (!mayHitEmitter(ray)) return Color(0.0f);
     ++rays;
-    std::optional<Hit> hit = accel_.intersect(ray, kInfinity);
+    std::optional<Hit> hit = intersectVisible(scene_, accel_, ray, kInfinity, rays);
     if (!hit) return Color(0.0f);
     const Material& m = scene_.material(hit->prim);
     if (!m.isEmissive()) return Color(0.0f);

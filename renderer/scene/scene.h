@@ -79,6 +79,9 @@ struct Scene {
     /// memory: the store's cache bound.
     std::shared_ptr<TextureStore> textures;
     size_t textureBytes = 0;
+    /// Whether a material may cut parts of its surface out: rays then go through
+    /// scene/visibility.h's queries, which pass through them.
+    bool hasAlpha = false;
     /// The index in `lights` of an emissive primitive's area light; nullopt for a primitive that
     /// does not emit.
     std::optional<size_t> areaLightOf(uint32_t prim) const;

@@ -86,6 +86,24 @@ std::unique_ptr<Material> readConductor(JsonObject& o, const Color& emission) {
     return std::make_unique<Conductor>(roughness, fresnel, multipleScattering, emission);
 }
 
+// glTF's alpha: "alpha_mode" opaque (default), mask or blend; "alpha" and "alpha_cutoff" in [0, 1].
+void readAlpha(JsonObject& o, TexturedMetallicRoughness::Inputs& in) {
+    const std::string mode = o.choice("alpha_mode", {"opaque", "mask", "blend"}, "opaque");
+    in.alphaMode = mode == "mask"    ? AlphaMode::Mask
+                   : mode == "blend" ? AlphaMode::Blend
+                                     : AlphaMode::Opaque;
+    in.alpha = o.number("alpha", 1.0f);
+    if (!(in.alpha >= 0.0f && in.alpha <= 1.0f))
+        throw InputError(o.pathOf("alpha"), "must be in [0, 1]");
+    if (o.find("alpha_cutoff")) {
+        if (in.alphaMode != AlphaMode::Mask)
+            throw InputError(o.pathOf("alpha_cutoff"), "applies to \"alpha_mode\": \"mask\" only");
+        in.alphaCutoff = o.number("alpha_cutoff");
+        if (!(in.alphaCutoff >= 0.0f && in.alphaCutoff <= 1.0f))
+            throw InputError(o.pathOf("alpha_cutoff"), "must be in [0, 1]");
+    }
+}
+
 // glTF's metallic-roughness material, with its optional textures (textured_metallic_roughness.h).
 std::unique_ptr<Material> readMetallicRoughness(JsonObject& o, const Color& emission,
                                                 const SceneOptions& options, Scene& scene) {
@@ -104,7 +122,9 @@ std::unique_ptr<Material> readMetallicRoughness(JsonObject& o, const Color& emis
         readTexture(o, "metallic_roughness_texture", TextureEncoding::Linear, options, scene);
     in.normalTexture =
         readTexture(o, "normal_texture", TextureEncoding::Linear, options, scene, &in.normalScale);
-    if (in.baseColorTexture.named || in.metallicRoughnessTexture.named || in.normalTexture.named)
+    readAlpha(o, in);
+    if (in.baseColorTexture.named || in.metallicRoughnessTexture.named || in.normalTexture.named ||
+        in.alphaMode != AlphaMode::Opaque)
         return std::make_unique<TexturedMetallicRoughness>(in, scene.textures);
     return std::make_unique<MetallicRoughness>(in.baseColor, in.metallic, in.roughness,
                                                in.multipleScattering, emission);
@@ -302,6 +322,7 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
         scene->materials.push_back(
             readMaterial(it.value(), jsonPointer("/materials", it.key()), options, *scene));
         scene->materialNames.push_back(it.key());
+        scene->hasAlpha = scene->hasAlpha || scene->materials.back()->hasAlpha();
     }
 
     const Json& shapes = requireArray(root, "shapes");

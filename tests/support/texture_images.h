@@ -9,8 +9,27 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "scene/scene.h"
+#include "support/temp_dir.h"
 
 namespace caustic::testing {
+
+/// A scene from JSON text with material `name` set to `material`.
+inline nlohmann::json withMaterial(const char* sceneJson, const std::string& name,
+                                   const nlohmann::json& material) {
+    nlohmann::json doc = nlohmann::json::parse(sceneJson);
+    doc["materials"][name] = material;
+    return doc;
+}
+
+/// Loads a scene whose files (textures, meshes) are in `dir`.
+inline std::unique_ptr<Scene> loadWithAssets(const TempDir& dir, const nlohmann::json& doc) {
+    SceneOptions options;
+    options.assetsDir = dir.path();
+    return loadScene(doc, options);
+}
 
 /// Writes a width x height image of `channels` channels whose texel (x, y) channel c is
 /// value(x, y, c), in the file's own format (PNG: rounded to 8 bits; EXR: float).

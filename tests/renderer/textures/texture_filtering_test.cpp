@@ -25,9 +25,7 @@ std::vector<float> renderPlane(const testing::TempDir& dir, const std::string& f
       "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [3, 3, 3]}]
     })");
     doc["materials"]["checks"]["base_color_texture"]["filter"] = filter;
-    SceneOptions options;
-    options.assetsDir = dir.path();
-    auto scene = loadScene(doc, options);
+    auto scene = testing::loadWithAssets(dir, doc);
     RenderResult result = render(
         *scene, testing::settingsFrom({{"integrator", "raycast"}, {"spp", spp}, {"seed", 7}}));
     return result.film->meanRgb();

@@ -19,20 +19,17 @@ namespace {
 using nlohmann::json;
 
 json quadScene(const json& material) {
-    json doc = json::parse(R"({
+    return testing::withMaterial(R"({
       "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 30, "width": 8, "height": 8},
       "shapes": [{"type": "quad", "origin": [-2, -2, 0], "u": [4, 0, 0], "v": [0, 4, 0],
                   "material": "m"}],
       "lights": [{"type": "directional", "direction": [0.3, -0.2, -1], "irradiance": [2, 2, 2]}]
-    })");
-    doc["materials"]["m"] = material;
-    return doc;
+    })",
+                                 "m", material);
 }
 
 std::unique_ptr<Scene> load(const testing::TempDir& dir, const json& doc) {
-    SceneOptions options;
-    options.assetsDir = dir.path();
-    return loadScene(doc, options);
+    return testing::loadWithAssets(dir, doc);
 }
 
 TEST(TexturedScene, AConstantTextureRendersAsItsValueTimesTheFactor) {
