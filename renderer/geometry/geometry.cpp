@@ -233,6 +233,7 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
             quadTriangle(quads_[i], second, p0, p1, p2);
             triangleHitPoint(b, p0, p1, p2, s.p, s.pError);
             s.n = quads_[i].n;
+            s.uv = u;
             s.pdfArea = 1.0f / quads_[i].area;
             break;
         }
@@ -242,6 +243,7 @@ SurfaceSample Geometry::sample(uint32_t prim, Vec2 u) const {
             Vec2 b = sampleUniformTriangle(u);
             triangleHitPoint(TriangleHit{b.x, b.y, 1.0f - b.x - b.y, 0.0f}, p0, p1, p2, s.p,
                              s.pError);
+            s.uv = Vec2(b.y, 1.0f - b.x - b.y);
             Vec3 c = glm::cross(p1 - p0, p2 - p0);
             s.n = glm::normalize(c);  // as triangleNormal, to the bit
             s.pdfArea = 2.0f / glm::length(c);

@@ -49,6 +49,7 @@ struct SurfaceSample {
     Vec3 pError;
     Vec3 n;
     float pdfArea = 0.0f;
+    Vec2 uv{0.0f};  ///< Surface parameters, as a Hit's (a sphere's: (0, 0)).
 };
 
 }  // namespace caustic

@@ -1,8 +1,24 @@
 #include "lights/area_light.h"
 
 #include "core/sampling.h"
+#include "materials/material_scratch.h"
 
 namespace caustic {
+
+Color AreaLight::LeAt(const SurfaceSample& at) const {
+    if (!textured_) return Le_;
+    SurfaceInteraction si;
+    si.p = si.pShading = at.p;
+    si.pError = at.pError;
+    si.n = si.ns = at.n;
+    si.uv = at.uv;
+    si.prim = prim_;
+    TexturePoint point;
+    point.frame = geometry_.textureFrame(si);
+    point.query.st = point.frame.st;
+    point.n = at.n;
+    return textured_->emissionAt(point);
+}
 
 std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ref, Vec2 u) const {
     const Sphere* s = sphere();
@@ -19,7 +35,7 @@ std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ref, Ve
     if (!(cosLight > 0.0f)) return std::nullopt;
     LightSample ls;
     ls.wi = wi;
-    ls.Li = Le_;
+    ls.Li = LeAt(at);
     // Area density to solid angle: p(w) = p(A) d^2 / cos (pbrt-v4 eq. 4.9).
     ls.pdf = cone ? conePdf : at.pdfArea * dist2 / cosLight;
     ls.at = at;
@@ -39,7 +55,8 @@ std::optional<LightLeSample> AreaLight::sampleLe(Vec2 uPosition, Vec2 uDirection
     Vec3 local = sampleCosineHemisphere(uDirection);
     if (!(local.z > 0.0f)) return std::nullopt;
     Vec3 w = fromLocal(local, at.n);
-    return LightLeSample{Ray{offsetRayOrigin(at.p, at.pError, at.n, w), w}, power()};
+    const Color flux = textured_ ? LeAt(at) * geometry_.area(prim_) * kPi : power();
+    return LightLeSample{Ray{offsetRayOrigin(at.p, at.pError, at.n, w), w}, flux};
 }
 
 float AreaLight::pdfLi(const LightSampleContext& ref, const SurfaceInteraction& at) const {

@@ -98,6 +98,12 @@ public:
     /// Whether atPoint reads a tangent frame (a normal map): meshes then get MikkTSpace tangents.
     virtual bool needsTangents() const { return false; }
 
+    /// Emitted radiance (front side) at a point the scene does not shade, such as a light sample:
+    /// for an emissive texture, its value there at the finest level; emission() otherwise.
+    virtual Color emissionAt(const TexturePoint& /*point*/) const { return emission_; }
+    /// The emission averaged over the surface's texture (for choosing lights by power).
+    virtual Color averageEmission() const { return emission_; }
+
     /// Whether parts of the surface may be cut out (glTF's alpha modes mask and blend): rays pass
     /// through those as if nothing were there (scene/visibility.h).
     bool hasAlpha() const { return alpha_; }

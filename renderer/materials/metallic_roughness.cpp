@@ -17,20 +17,19 @@ float schlickWeight(float cosTheta) {
     return (m * m) * (m * m) * m;
 }
 
-constexpr float kDielectricF0 = 0.04f;  // ((1.5 - 1) / (1.5 + 1))^2: glTF's ior 1.5
-
 }  // namespace
 
 MetallicRoughness::MetallicRoughness(const Color& baseColor, float metallic, float roughness,
-                                     bool multipleScattering, const Color& emission)
+                                     bool multipleScattering, const Color& emission, float ior)
     : Material(emission, false),
+      f0_(sqr((ior - 1.0f) / (ior + 1.0f))),
       base_(baseColor),
       metallic_(metallic),
       roughness_(std::max(roughness, kMinRoughness)),
       ggx_(Ggx::alphaOf(roughness_), Ggx::alphaOf(roughness_)) {
     const GgxAlbedo& table = GgxAlbedo::get();
-    const float average = kDielectricF0 * table.average(roughness_) +
-                          (1.0f - kDielectricF0) * table.schlickAverage(roughness_);
+    const float average =
+        f0_ * table.average(roughness_) + (1.0f - f0_) * table.schlickAverage(roughness_);
     diffuseScale_ = kInvPi / (1.0f - average);
     if (multipleScattering && metallic > 0.0f)
         multiple_ =
@@ -39,8 +38,7 @@ MetallicRoughness::MetallicRoughness(const Color& baseColor, float metallic, flo
 
 float MetallicRoughness::dielectricAlbedo(float mu) const {
     const GgxAlbedo& table = GgxAlbedo::get();
-    return kDielectricF0 * table.albedo(mu, roughness_) +
-           (1.0f - kDielectricF0) * table.schlickAlbedo(mu, roughness_);
+    return f0_ * table.albedo(mu, roughness_) + (1.0f - f0_) * table.schlickAlbedo(mu, roughness_);
 }
 
 float MetallicRoughness::specularProbability(float cosO) const {
@@ -63,7 +61,7 @@ BsdfEval MetallicRoughness::evalLocal(const Vec3& wo, const Vec3& wi) const {
     wm = glm::normalize(wm);
     const float cosH = glm::dot(wo, wm);
     const float w = schlickWeight(cosH);
-    const float fd = kDielectricF0 + (1.0f - kDielectricF0) * w;
+    const float fd = f0_ + (1.0f - f0_) * w;
     const Color fm = base_ + (Color(1.0f) - base_) * w;
     const float spec = ggx_.D(wm) * ggx_.G(wo, wi) / (4.0f * wo.z * wi.z);
     BsdfEval e;

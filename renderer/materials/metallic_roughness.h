@@ -1,7 +1,7 @@
 // glTF 2.0's metallic-roughness material (its specification's Appendix B, "BRDF
 // Implementation"): a dielectric, Lambertian diffuse under a GGX specular layer with Schlick's
-// Fresnel term of F0 = 0.04 (ior 1.5), and a metal, GGX reflection with Schlick's Fresnel from
-// F0 = base colour, mixed by `metallic`:
+// Fresnel term of F0 = 0.04 (ior 1.5; KHR_materials_ior sets another), and a metal, GGX reflection
+// with Schlick's Fresnel from F0 = base colour, mixed by `metallic`:
 //
 //   f = (1 - metallic) [F_d spec + base / pi  L(mu_o) L(mu_i) / (1 - E_d,avg)]
 //       + metallic [F_m spec + multiple scattering],
@@ -28,8 +28,9 @@ public:
     /// baseColor in [0, 1] per channel; metallic and roughness (perceptual) in [0, 1]. A
     /// roughness below kMinRoughness is taken as kMinRoughness: the diffuse and specular lobes
     /// share one sampler, so the specular one cannot be a delta.
+    /// ior (KHR_materials_ior, >= 1) sets the dielectric's F0 = ((ior - 1) / (ior + 1))^2.
     MetallicRoughness(const Color& baseColor, float metallic, float roughness,
-                      bool multipleScattering, const Color& emission);
+                      bool multipleScattering, const Color& emission, float ior = 1.5f);
 
     Color f(const Vec3& wo, const Vec3& wi, const Vec3& n) const override;
     float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) const override;
@@ -51,6 +52,7 @@ private:
     /// E_d(mu): the directional albedo of the dielectric's specular layer.
     float dielectricAlbedo(float mu) const;
 
+    float f0_;  ///< The dielectric's Fresnel reflectance at normal incidence (0.04 at ior 1.5).
     Color base_;
     float metallic_;
     float roughness_;

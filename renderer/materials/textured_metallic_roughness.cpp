@@ -10,9 +10,30 @@ TexturedMetallicRoughness::TexturedMetallicRoughness(const Inputs& inputs,
       in_(inputs),
       store_(std::move(store)),
       factors_(inputs.baseColor, inputs.metallic, inputs.roughness, inputs.multipleScattering,
-               inputs.emission) {
+               inputs.emission, inputs.ior) {
     setTextured();
     if (in_.alphaMode != AlphaMode::Opaque) setAlpha();
+}
+
+Color TexturedMetallicRoughness::emitted(const TextureQuery& q) const {
+    if (!in_.emissiveTexture || isBlack(emission())) return emission();
+    float rgb[3];
+    in_.emissiveTexture.lookup(*store_, q, 0, 3, rgb);
+    return emission() * Color(rgb[0], rgb[1], rgb[2]);
+}
+
+Color TexturedMetallicRoughness::emissionAt(const TexturePoint& point) const {
+    TextureQuery finest;
+    finest.st = point.query.st;
+    return emitted(finest);
+}
+
+Color TexturedMetallicRoughness::averageEmission() const {
+    // A footprint as large as the image: the coarsest MIP level, the image's mean.
+    TextureQuery whole;
+    whole.dstdx = Vec2(1.0f, 0.0f);
+    whole.dstdy = Vec2(0.0f, 1.0f);
+    return emitted(whole);
 }
 
 bool TexturedMetallicRoughness::cutOut(const TexturePoint& point, float u) const {
@@ -50,7 +71,7 @@ const Material& TexturedMetallicRoughness::atPoint(const TexturePoint& point, Ve
     }
     if (in_.normalTexture) ns = mappedNormal(point, ns);
     scratch.metallicRoughness.emplace(base, metallic, roughness, in_.multipleScattering,
-                                      emission());
+                                      emitted(point.query), in_.ior);
     return *scratch.metallicRoughness;
 }
 

@@ -3,7 +3,8 @@
 // the B and G channels of one linear texture, and a tangent-space normal map (linear, scaled in
 // x and y by `normalScale`), and glTF's alpha: `alpha` times the base colour texture's alpha
 // channel, cut out below a cutoff (mask) or passed through with probability 1 - alpha (blend). At
-// each point it becomes a MetallicRoughness of the values found there (metallic_roughness.h).
+// each point it becomes a MetallicRoughness of the values found there (metallic_roughness.h). An
+// emissive texture (sRGB) multiplies the emission.
 #pragma once
 
 #include <memory>
@@ -23,11 +24,12 @@ public:
         float metallic = 1.0f, roughness = 1.0f;
         bool multipleScattering = true;
         Color emission{0.0f};
-        TextureSlot baseColorTexture, metallicRoughnessTexture, normalTexture;
+        TextureSlot baseColorTexture, metallicRoughnessTexture, normalTexture, emissiveTexture;
         float normalScale = 1.0f;
         AlphaMode alphaMode = AlphaMode::Opaque;
         float alpha = 1.0f;        ///< glTF's baseColorFactor[3]
         float alphaCutoff = 0.5f;  ///< For Mask.
+        float ior = 1.5f;          ///< KHR_materials_ior: the dielectric's F0.
     };
     /// `store` holds the slots' images and outlives the material; it may be null when no slot has
     /// an image (a scene loaded only to be admitted).
@@ -37,6 +39,8 @@ public:
                             MaterialScratch& scratch) const override;
     bool needsTangents() const override { return in_.normalTexture.named; }
     bool cutOut(const TexturePoint& point, float u) const override;
+    Color emissionAt(const TexturePoint& point) const override;
+    Color averageEmission() const override;
 
     // Off a point (where nothing calls atPoint): the material of the factors alone.
     Color f(const Vec3& wo, const Vec3& wi, const Vec3& n) const override {
@@ -54,6 +58,8 @@ public:
     }
 
 private:
+    /// The emission where the query looks.
+    Color emitted(const TextureQuery& q) const;
     /// The normal map's normal at the point, on the geometric normal's side.
     Vec3 mappedNormal(const TexturePoint& point, const Vec3& ns) const;
 

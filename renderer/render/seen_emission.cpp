@@ -55,7 +55,9 @@ Color SeenEmission::along(const Ray& ray, uint64_t& rays) const {
     const Material& m = scene_.material(hit->prim);
     if (!m.isEmissive()) return Color(0.0f);
     SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
-    return m.Le(-ray.d, si.n);
+    if (!m.isTextured()) return m.Le(-ray.d, si.n);
+    MaterialScratch scratch;
+    return scene_.shade(si, scratch).Le(-ray.d, si.n);
 }
 
 }  // namespace caustic

@@ -11,6 +11,7 @@
 #include "materials/diffuse.h"
 #include "materials/metallic_roughness.h"
 #include "materials/mirror.h"
+#include "materials/mixed_material.h"
 #include "materials/rough_dielectric.h"
 #include "materials/textured_metallic_roughness.h"
 #include "scene/json_reader.h"
@@ -122,12 +123,32 @@ std::unique_ptr<Material> readMetallicRoughness(JsonObject& o, const Color& emis
         readTexture(o, "metallic_roughness_texture", TextureEncoding::Linear, options, scene);
     in.normalTexture =
         readTexture(o, "normal_texture", TextureEncoding::Linear, options, scene, &in.normalScale);
+    in.emissiveTexture = readTexture(o, "emissive_texture", TextureEncoding::Srgb, options, scene);
     readAlpha(o, in);
-    if (in.baseColorTexture.named || in.metallicRoughnessTexture.named || in.normalTexture.named ||
-        in.alphaMode != AlphaMode::Opaque)
-        return std::make_unique<TexturedMetallicRoughness>(in, scene.textures);
-    return std::make_unique<MetallicRoughness>(in.baseColor, in.metallic, in.roughness,
-                                               in.multipleScattering, emission);
+    in.ior = o.number("ior", 1.5f);
+    if (!(in.ior >= 1.0f && in.ior <= 10.0f))
+        throw InputError(o.pathOf("ior"), "must be in [1, 10]");
+    const float transmission = o.number("transmission", 0.0f);
+    if (!(transmission >= 0.0f && transmission <= 1.0f))
+        throw InputError(o.pathOf("transmission"), "must be in [0, 1]");
+    const bool textured = in.baseColorTexture.named || in.metallicRoughnessTexture.named ||
+                          in.normalTexture.named || in.emissiveTexture.named ||
+                          in.alphaMode != AlphaMode::Opaque;
+    if (textured && transmission > 0.0f)
+        throw InputError(o.pathOf("transmission"),
+                         "cannot be combined with textures or alpha yet; use an untextured "
+                         "material for a transmissive surface");
+    if (textured) return std::make_unique<TexturedMetallicRoughness>(in, scene.textures);
+    auto surface = std::make_unique<MetallicRoughness>(in.baseColor, in.metallic, in.roughness,
+                                                       in.multipleScattering, emission, in.ior);
+    const float weight = (1.0f - in.metallic) * transmission;
+    if (!(weight > 0.0f)) return surface;
+    // KHR_materials_transmission: the dielectric's diffuse gives way to a rough refraction
+    // tinted by the base colour, its Fresnel term Schlick's as the specification's.
+    auto glass =
+        std::make_unique<RoughDielectric>(std::max(in.roughness, MetallicRoughness::kMinRoughness),
+                                          in.ior, FresnelModel::Schlick, in.baseColor, Color(0.0f));
+    return std::make_unique<MixedMaterial>(std::move(surface), std::move(glass), weight);
 }
 
 std::unique_ptr<Material> readMaterial(const Json& j, const std::string& path,
@@ -356,7 +377,8 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
     for (uint32_t prim = 0; prim < scene->geometry.size(); ++prim) {
         const Material& m = scene->material(prim);
         if (!m.isEmissive()) continue;
-        scene->lights.push_back(std::make_unique<AreaLight>(scene->geometry, prim, m.emission()));
+        scene->lights.push_back(std::make_unique<AreaLight>(
+            scene->geometry, prim, m.averageEmission(), m.isTextured() ? &m : nullptr));
         scene->emitterPrims.push_back(prim);
     }
     if (!scene->lights.empty()) scene->lightSampler = LightSampler(scene->lights);

@@ -272,9 +272,10 @@ TEST(SceneLoaderErrors, MetallicRoughnessFactors) {
     EXPECT_SCENE_ERROR(patched("/materials/m", gltf({{"roughness", 2}})), "/materials/m/roughness",
                        "must be in [0, 1]");
     EXPECT_SCENE_ERROR(patched("/materials/m", gltf({{"f0", {1, 1, 1}}})), "/materials/m/f0",
-                       "unknown field; valid fields here: base_color, base_color_texture, "
-                       "emission, metallic, metallic_roughness_texture, multiple_scattering, "
-                       "normal_texture, roughness, type");
+                       "unknown field; valid fields here: alpha, alpha_cutoff, alpha_mode, "
+                       "base_color, base_color_texture, emission, emissive_texture, ior, "
+                       "metallic, metallic_roughness_texture, multiple_scattering, "
+                       "normal_texture, roughness, transmission, type");
 }
 
 TEST(SceneLoaderErrors, MaterialsNotObjects) {
