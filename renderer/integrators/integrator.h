@@ -12,20 +12,12 @@
 #include "accel/accelerator.h"
 #include "core/interrupt.h"
 #include "core/sampler.h"
+#include "core/trace_settings.h"
 #include "lights/light.h"
 #include "scene/scene.h"
 #include "scene/visibility.h"
 
 namespace caustic {
-
-/// The general render settings that integrators read, as Tungsten's TraceSettings: path length,
-/// and the seed and threads of an integrator's own per-pass work (photon tracing). RenderSettings
-/// derives from it, so each is stored once; integrators take it beside their own Settings.
-struct TraceSettings {
-    int maxDepth = 16;  ///< Most scattering events on a path (1: direct light only).
-    uint64_t seed = 0;  ///< Same scene, settings and seed: the same image.
-    int threads = 0;    ///< Worker threads; 0 uses every core.
-};
 
 /// What one pixel sample carries through an integrator: its random numbers and its counters.
 /// One per thread, re-seeded per sample; never shared.

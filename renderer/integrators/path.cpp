@@ -14,7 +14,7 @@ PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel,
     if (settings_.caustics == PathSource::PhotonMap) {
         map.light = MappedLight::Caustics;
         map.photons = photon.photons;
-        map.firstRadius = PhotonIntegrator::firstRadius(photon.radius, accel);
+        map.firstRadius = firstProgressiveRadius(photon.radius, accel.bounds());
         caustics_ = std::make_unique<ProgressivePhotonMap>(scene, accel, trace, map);
     }
     if (settings_.indirect == PathSource::PhotonMap) {
@@ -26,7 +26,7 @@ PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel,
         // the bunny, bench/README.md "Photon-mapped indirect light").
         map.firstRadius = settings_.indirectRadius > 0
                               ? float(settings_.indirectRadius)
-                              : 8.0f * PhotonIntegrator::firstRadius(0.0, accel);
+                              : 8.0f * firstProgressiveRadius(0.0, accel.bounds());
         indirect_ = std::make_unique<ProgressivePhotonMap>(scene, accel, trace, map);
     }
 }
@@ -40,10 +40,10 @@ void PathIntegrator::checkMemory(size_t budgetBytes) const {
     // Both maps live through a pass: the indirect map is checked against what the caustic map
     // leaves.
     size_t caustics = caustics_ ? caustics_->peakBytes(interrupt_) : 0;
-    if (caustics_) PhotonIntegrator::checkPeak(caustics, budgetBytes, "/settings/photons");
+    if (caustics_) checkPhotonPeak(caustics, budgetBytes, "/settings/photons");
     if (indirect_)
-        PhotonIntegrator::checkPeak(indirect_->peakBytes(interrupt_), budgetBytes - caustics,
-                                    "/settings/indirect_photons");
+        checkPhotonPeak(indirect_->peakBytes(interrupt_), budgetBytes - caustics,
+                        "/settings/indirect_photons");
 }
 
 float PathIntegrator::emissionWeight(const LightSampleContext& from, float bsdfPdf,

@@ -7,13 +7,14 @@
 // photon-mapped caustics the L S+ D part of the light comes from a progressive caustic photon map
 // at every non-specular vertex instead; with photon-mapped indirect light the path ends at its
 // second non-specular vertex, where a light sample and a progressive map of the photons that
-// scattered before they landed give the light leaving it (integrators/progressive_photon_map.h).
+// scattered before they landed give the light leaving it (photons/progressive_photon_map.h).
 #pragma once
 
 #include <memory>
 
 #include "integrators/integrator.h"
-#include "integrators/progressive_photon_map.h"
+#include "integrators/photon.h"
+#include "photons/progressive_photon_map.h"
 
 namespace caustic {
 

@@ -7,12 +7,6 @@
 
 namespace caustic {
 
-float PhotonIntegrator::progressiveRadius(float r0, float alpha, uint32_t pass) {
-    double r2 = double(r0) * double(r0);
-    for (uint32_t j = 1; j <= pass; ++j) r2 *= (double(j) - 1.0 + double(alpha)) / double(j);
-    return float(std::sqrt(r2));
-}
-
 PhotonIntegrator::PhotonIntegrator(const Scene& scene, const Accelerator& accel,
                                    const TraceSettings& trace, const Settings& settings,
                                    bool progressive)
@@ -24,21 +18,7 @@ PhotonIntegrator::PhotonIntegrator(const Scene& scene, const Accelerator& accel,
     if (!progressive_) return;
     // ppm estimates at the visible point only, with a radius that shrinks per pass.
     settings_.finalGather = 0;
-    estimate_.radius = firstRadius(settings.radius, accel);
-}
-
-PhotonTracingOptions PhotonIntegrator::tracingOptions(const TraceSettings& trace, uint64_t photons,
-                                                      uint32_t pass, bool causticOnly,
-                                                      const Interrupt* interrupt) {
-    PhotonTracingOptions o;
-    o.photons = photons;
-    o.maxDepth = trace.maxDepth;
-    o.seed = trace.seed;
-    o.pass = pass;
-    o.threads = trace.threads;
-    o.causticOnly = causticOnly;
-    o.interrupt = interrupt;
-    return o;
+    estimate_.radius = firstProgressiveRadius(settings.radius, accel.bounds());
 }
 
 uint64_t PhotonIntegrator::beginPass(uint32_t pass) {
@@ -74,7 +54,7 @@ size_t PhotonIntegrator::estimatedPeakBytes() const {
     // Stored photons per path of a pilot tracing: all of them, and the caustic ones.
     auto storedPerPath = [&](bool causticOnly) {
         PhotonTracingOptions o = tracingOptions(0, causticOnly);
-        o.photons = std::min<uint64_t>(o.photons, kPilotPaths);
+        o.photons = std::min<uint64_t>(o.photons, kPilotPhotonPaths);
         PhotonTracing pilot = tracePhotons(scene_, accel_, o);
         auto caustics =
             std::count_if(pilot.photons.begin(), pilot.photons.end(),
@@ -87,30 +67,13 @@ size_t PhotonIntegrator::estimatedPeakBytes() const {
     stored += settings_.causticPhotons > 0
                   ? double(settings_.causticPhotons) * storedPerPath(true).first
                   : double(settings_.photons) * caustic;
-    return peakBytes(stored);
-}
-
-size_t PhotonIntegrator::peakBytes(double storedPhotons) {
-    // Tracing holds each photon twice while it joins the chunks (80 bytes); a map then holds 40
-    // bytes a photon, and while its tree builds 12 of positions, 16 of the build's working copy,
-    // and the tree's 16 and at most 1 of splits (photons/photon_kdtree.h): 85. A 10% margin
-    // covers the pilot's sampling error.
-    return size_t(1.1 * 85.0 * storedPhotons);
+    return photonPassPeakBytes(stored);
 }
 
 void PhotonIntegrator::checkMemory(size_t budgetBytes) const {
     bool caustics = settings_.causticPhotons > settings_.photons;
-    checkPeak(estimatedPeakBytes(), budgetBytes,
-              caustics ? "/settings/caustic_photons" : "/settings/photons");
-}
-
-void PhotonIntegrator::checkPeak(size_t needBytes, size_t budgetBytes, const char* setting) {
-    if (needBytes <= budgetBytes) return;
-    auto mib = [](size_t b) { return std::to_string((b + (1u << 20) - 1) >> 20) + " MiB"; };
-    throw InputError(setting, "the photon maps of a pass would need about " + mib(needBytes) +
-                                  " (estimated from a pilot tracing), more than the " +
-                                  mib(budgetBytes) + " the memory limit leaves; lower it or " +
-                                  "raise memory_limit");
+    checkPhotonPeak(estimatedPeakBytes(), budgetBytes,
+                    caustics ? "/settings/caustic_photons" : "/settings/photons");
 }
 
 size_t PhotonIntegrator::memoryBytes() const {

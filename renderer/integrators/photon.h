@@ -19,6 +19,7 @@
 
 #include "integrators/integrator.h"
 #include "photons/photon_map.h"
+#include "photons/photon_pass.h"
 
 namespace caustic {
 
@@ -37,15 +38,6 @@ public:
         double alpha = 2.0 / 3.0;  ///< ppm: the radius reduction per pass.
     };
 
-    /// The radius of pass `pass` for initial radius r0 (Knaus & Zwicker 2011, eq. 20).
-    static float progressiveRadius(float r0, float alpha, uint32_t pass);
-    /// The first pass's radius of a progressive estimate: `radius`, or 1/500 of the scene's
-    /// diagonal when it is 0.
-    static float firstRadius(double radius, const Accelerator& accel) {
-        return radius > 0 ? float(radius)
-                          : 0.002f * glm::length(accel.bounds().hi - accel.bounds().lo);
-    }
-
     /// `progressive` makes it ppm: the radius shrinks per pass (from 1/500 of the scene's
     /// diagonal when settings.radius is 0), and final gathering is off.
     PhotonIntegrator(const Scene& scene, const Accelerator& accel, const TraceSettings& trace,
@@ -57,24 +49,14 @@ public:
     void checkMemory(size_t budgetBytes) const override;
 
     /// Peak bytes of one pass's photon tracing and maps, from a pilot tracing of at most
-    /// kPilotPaths paths of each kind (a few milliseconds).
+    /// kPilotPhotonPaths paths of each kind.
     size_t estimatedPeakBytes() const;
-    static constexpr uint64_t kPilotPaths = 8192;
-    /// Peak bytes of one pass that stores `storedPhotons` photons (global and caustic maps).
-    static size_t peakBytes(double storedPhotons);
-    /// Throws InputError at `setting` when `needBytes` of photon maps exceed `budgetBytes`.
-    static void checkPeak(size_t needBytes, size_t budgetBytes, const char* setting);
-
-    /// The photon tracing of pass `pass`: `photons` paths, max_depth, seed and threads from
-    /// `trace`.
-    static PhotonTracingOptions tracingOptions(const TraceSettings& trace, uint64_t photons,
-                                               uint32_t pass, bool causticOnly,
-                                               const Interrupt* interrupt);
 
 private:
     PhotonTracingOptions tracingOptions(uint32_t pass, bool causticOnly) const {
-        return tracingOptions(trace_, causticOnly ? settings_.causticPhotons : settings_.photons,
-                              pass, causticOnly, interrupt_);
+        return photonTracingOptions(trace_,
+                                    causticOnly ? settings_.causticPhotons : settings_.photons,
+                                    pass, causticOnly, interrupt_);
     }
     /// Follows specular lobes from `ray` (one sampled lobe per hit) to the first non-specular hit;
     /// nullopt when the path escapes (`escaped`) or ends. `beta` accumulates the specular weights;

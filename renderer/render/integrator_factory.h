@@ -13,6 +13,24 @@ namespace caustic {
 
 struct RenderSettings;
 
+/// What the code that must treat integrators apart needs to know of one, so that it asks this
+/// instead of comparing names.
+struct IntegratorTraits {
+    const char* name;
+    /// Keeps photon maps of its own in every render (photon, ppm: `photons`, `caustic_photons`).
+    bool ownsPhotonMaps;
+    /// May keep photon maps for parts of the light, as its settings say (path: `caustics` and
+    /// `indirect` set to `photon_map`).
+    bool photonMapsBySetting;
+    /// Its photon maps' radius shrinks pass by pass (ppm), so their bias falls as it renders.
+    bool progressive;
+};
+
+/// Every integrator, in the order `integratorNames` lists them.
+const std::vector<IntegratorTraits>& integratorTraits();
+/// The traits of integrator `name`; null for a name that is none.
+const IntegratorTraits* findIntegrator(const std::string& name);
+
 /// The integrator names `createIntegrator` accepts.
 const std::vector<std::string>& integratorNames();
 
@@ -20,8 +38,8 @@ const std::vector<std::string>& integratorNames();
 /// photon mappers' bias, which every pass shares (photon) or which shrinks pass by pass (ppm, and
 /// path with photon-mapped caustics or indirect light); docs/study/README.md measures it.
 inline bool errorExcludesBias(const std::string& integrator, bool pathPhotonMaps) {
-    return integrator == "photon" || integrator == "ppm" ||
-           (integrator == "path" && pathPhotonMaps);
+    const IntegratorTraits* t = findIntegrator(integrator);
+    return t && (t->ownsPhotonMaps || (t->photonMapsBySetting && pathPhotonMaps));
 }
 
 /// Creates the integrator `settings.integrator`, with its own settings, for a scene and

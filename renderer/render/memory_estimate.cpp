@@ -8,6 +8,7 @@
 #include "film/film.h"
 #include "integrators/photon.h"
 #include "lights/light.h"
+#include "render/integrator_factory.h"
 
 namespace caustic {
 namespace {
@@ -38,7 +39,9 @@ struct PhotonBudget {
 
 // Zero paths when the integrator keeps no photon map.
 PhotonBudget photonBudget(const RenderSettings& s) {
-    if (s.integrator == "path") {
+    const IntegratorTraits* traits = findIntegrator(s.integrator);
+    if (!traits) return {};
+    if (traits->photonMapsBySetting) {
         // Its caustic map (`photons` caustic-only paths) and its indirect map (a global map of
         // `indirect_photons` paths, less their direct photons: bounded by all of them).
         const bool caustics = s.path.caustics == PathSource::PhotonMap;
@@ -46,7 +49,7 @@ PhotonBudget photonBudget(const RenderSettings& s) {
         return {indirect ? s.path.indirectPhotons : 0, caustics ? s.photon.photons : 0, s.maxDepth,
                 indirect ? "/settings/indirect_photons" : "/settings/photons"};
     }
-    if (s.integrator != "photon" && s.integrator != "ppm") return {};
+    if (!traits->ownsPhotonMaps) return {};
     const bool caustics = s.photon.causticPhotons > s.photon.photons;
     // Without caustic_photons, the caustic map copies those of the `photons` paths.
     return {s.photon.photons,
@@ -132,7 +135,7 @@ size_t photonPeakBytes(const Scene& scene, const RenderSettings& settings, const
     const double caustic = hasSpecular(scene) && perPath > 0 ? 1.0 : 0.0;
     const double stored =
         double(budget.photons) * perPath + double(budget.causticPhotons) * caustic;
-    return PhotonIntegrator::peakBytes(stored);
+    return photonPassPeakBytes(stored);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "render/integrator_factory.h"
 #include "render/presets.h"
 #include "scene/json_reader.h"
 
@@ -172,7 +173,9 @@ Json RenderSettings::toJson() const {
 
 bool RenderSettings::reads(const SettingSpec& spec) const {
     if (!spec.readBy(integrator)) return false;
-    if (spec.pathMaps == 0 || integrator != "path") return true;
+    if (spec.pathMaps == 0) return true;
+    const IntegratorTraits* traits = findIntegrator(integrator);
+    if (!traits || !traits->photonMapsBySetting) return true;
     return ((spec.pathMaps & SettingSpec::kCausticMap) && path.caustics == PathSource::PhotonMap) ||
            ((spec.pathMaps & SettingSpec::kIndirectMap) && path.indirect == PathSource::PhotonMap);
 }

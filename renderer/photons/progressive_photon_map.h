@@ -17,7 +17,11 @@
 #include <memory>
 #include <vector>
 
-#include "integrators/photon.h"
+#include "accel/accelerator.h"
+#include "core/trace_settings.h"
+#include "photons/photon_map.h"
+#include "photons/photon_pass.h"
+#include "scene/scene.h"
 
 namespace caustic {
 
@@ -50,7 +54,7 @@ public:
 
     size_t memoryBytes() const { return map_ ? map_->memoryBytes() : 0; }
     /// Peak bytes of a pass's tracing and map, estimated from a pilot tracing of at most
-    /// PhotonIntegrator::kPilotPaths paths.
+    /// kPilotPhotonPaths paths.
     size_t peakBytes(const Interrupt* interrupt) const;
 
 private:

@@ -1,4 +1,4 @@
-#include "integrators/progressive_photon_map.h"
+#include "photons/progressive_photon_map.h"
 
 #include <algorithm>
 
@@ -14,8 +14,8 @@ ProgressivePhotonMap::ProgressivePhotonMap(const Scene& scene, const Accelerator
 
 PhotonTracingOptions ProgressivePhotonMap::tracingOptions(uint32_t pass,
                                                           const Interrupt* interrupt) const {
-    return PhotonIntegrator::tracingOptions(trace_, settings_.photons, pass,
-                                            settings_.light == MappedLight::Caustics, interrupt);
+    return photonTracingOptions(trace_, settings_.photons, pass,
+                                settings_.light == MappedLight::Caustics, interrupt);
 }
 
 std::vector<Photon> ProgressivePhotonMap::kept(std::vector<Photon> traced) const {
@@ -26,8 +26,7 @@ std::vector<Photon> ProgressivePhotonMap::kept(std::vector<Photon> traced) const
 }
 
 uint64_t ProgressivePhotonMap::beginPass(uint32_t pass, const Interrupt* interrupt) {
-    pass_.radius =
-        PhotonIntegrator::progressiveRadius(settings_.firstRadius, float(settings_.alpha), pass);
+    pass_.radius = progressiveRadius(settings_.firstRadius, float(settings_.alpha), pass);
     map_.reset();  // the previous pass's first: peak memory is one pass's
     PhotonTracing traced = tracePhotons(scene_, accel_, tracingOptions(pass, interrupt));
     if (traced.interrupted) return traced.rays;
@@ -45,10 +44,10 @@ Color ProgressivePhotonMap::reflected(const SurfaceInteraction& si, const Vec3& 
 
 size_t ProgressivePhotonMap::peakBytes(const Interrupt* interrupt) const {
     PhotonTracingOptions o = tracingOptions(0, interrupt);
-    o.photons = std::min<uint64_t>(o.photons, PhotonIntegrator::kPilotPaths);
+    o.photons = std::min<uint64_t>(o.photons, kPilotPhotonPaths);
     PhotonTracing pilot = tracePhotons(scene_, accel_, o);
     const double perPath = double(pilot.photons.size()) / std::max(1.0, double(o.photons));
-    return PhotonIntegrator::peakBytes(double(settings_.photons) * perPath);
+    return photonPassPeakBytes(double(settings_.photons) * perPath);
 }
 
 }  // namespace caustic
