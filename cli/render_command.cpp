@@ -113,6 +113,19 @@ int runRender(const RenderOptions& options) {
                      toString(s.stopReason).c_str(),
                      static_cast<unsigned long long>(s.droppedSamples),
                      double(s.memory.total()) / 1e6, outs.c_str());
+        // What the scene's features built, so that their cost is seen (none for a scene
+        // without an environment image, textures or lights).
+        std::string built;
+        for (const BuiltPart& p : s.built) {
+            char part[160];
+            const bool small = p.bytes < 1000000;
+            std::snprintf(part, sizeof part, "%s%s x%d %.3f s %.1f %s", built.empty() ? "" : ", ",
+                          p.part.c_str(), p.count, p.seconds,
+                          double(p.bytes) / (small ? 1e3 : 1e6), small ? "kB" : "MB");
+            built += part;
+        }
+        if (!built.empty())
+            std::fprintf(stderr, "caustic: built for the scene: %s\n", built.c_str());
     }
     return 0;
 }

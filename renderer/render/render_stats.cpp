@@ -29,7 +29,16 @@ nlohmann::json RenderStats::toJson() const {
             {"clamped_values", clampedValues},
             {"threads", threads},
             {"stop_reason", toString(stopReason)},
-            {"memory", memory.toJson()}};
+            {"memory", memory.toJson()},
+            {"built", builtJson()}};
+}
+
+nlohmann::json RenderStats::builtJson() const {
+    nlohmann::json parts = nlohmann::json::array();
+    for (const BuiltPart& p : built)
+        parts.push_back(
+            {{"part", p.part}, {"seconds", p.seconds}, {"bytes", p.bytes}, {"count", p.count}});
+    return parts;
 }
 
 }  // namespace caustic

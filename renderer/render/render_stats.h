@@ -4,9 +4,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "core/built_parts.h"
 #include "render/stopping.h"
 
 namespace caustic {
@@ -48,7 +50,11 @@ struct RenderStats {
     int threads = 0;
     StopReason stopReason = StopReason::Spp;
     MemoryStats memory;
+    /// What the scene built because it uses it (environment distribution, texture system,
+    /// tangent frames, light tables), with its time and bytes, when it was loaded.
+    std::vector<BuiltPart> built;
     nlohmann::json toJson() const;
+    nlohmann::json builtJson() const;
 };
 
 }  // namespace caustic

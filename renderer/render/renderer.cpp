@@ -39,6 +39,7 @@ RenderStats renderPasses(RenderSession& session, Film& film, const RenderCallbac
     stats.droppedSamples = film.droppedSamples();
     stats.clampedValues = film.clampedValues();
     stats.memory = session.memory(film);
+    stats.built = session.scene().built.parts();
     return stats;
 }
 

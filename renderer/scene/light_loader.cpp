@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/interrupt.h"
 #include "film/image_io.h"
 #include "lights/directional_light.h"
 #include "lights/environment_light.h"
@@ -125,9 +126,12 @@ void readEnvironment(const Json& j, const std::string& path, const SceneOptions&
                                              std::to_string(texel / image.width) +
                                              ") is negative or not finite");
                 }
+                const auto start = Interrupt::Clock::now();
                 light = std::make_unique<EnvironmentLight>(std::move(image), rotation, strength,
                                                            bounds);
                 scene.environmentBytes = light->memoryBytes();
+                scene.built.add("environment distribution", secondsSince(start),
+                                scene.environmentBytes);
             }
         } catch (const InputError&) {
             throw;

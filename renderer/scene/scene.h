@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/built_parts.h"
 #include "geometry/geometry.h"
 #include "lights/environment_light.h"
 #include "lights/light.h"
@@ -58,6 +59,8 @@ struct Scene {
         uint32_t material = 0;
     };
     std::vector<CountedMesh> countedMeshes;
+    /// What the scene built because it uses it, and its cost (the render's stats list it).
+    BuiltParts built;
 
     /// Radiance of a ray that leaves the scene along unit direction d: the background's and the
     /// environment's.

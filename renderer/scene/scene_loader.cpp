@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "lights/area_light.h"
 #include "materials/conductor.h"
 #include "materials/dielectric.h"
@@ -219,7 +220,11 @@ bool isAssetId(const std::string& id) {
 void addMesh(TriangleMesh mesh, uint32_t material, Scene& scene) {
     const Material& m = *scene.materials[material];
     std::vector<glm::vec4> tangents;
-    if (m.needsTangents()) tangents = generateTangents(mesh);
+    if (m.needsTangents()) {
+        const auto start = Interrupt::Clock::now();
+        tangents = generateTangents(mesh);
+        scene.built.add("tangent frames", secondsSince(start), tangents.size() * sizeof(glm::vec4));
+    }
     scene.geometry.addTriangles(mesh.positions, mesh.triangles, material, mesh.normals,
                                 mesh.texcoords, tangents);
 }
@@ -381,10 +386,14 @@ std::unique_ptr<Scene> loadScene(const Json& doc, const SceneOptions& options) {
             scene->geometry, prim, m.averageEmission(), m.isTextured() ? &m : nullptr));
         scene->emitterPrims.push_back(prim);
     }
+    const auto start = Interrupt::Clock::now();
     if (!scene->lights.empty()) scene->lightSampler = LightSampler(scene->lights);
     scene->directLights = LocalLightSampler(
         scene->lights, scene->environment ? scene->environmentIndex : scene->lights.size(),
         scene->lightSampler);
+    if (!scene->lights.empty())
+        scene->built.add("light tables", secondsSince(start),
+                         scene->lightTableBytes() - scene->environmentBytes);
     return scene;
 }
 
