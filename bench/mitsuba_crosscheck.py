@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Caustic against Mitsuba 3 on the scenes of bench/cross/ (issue 38, acceptance 2): rough
-conductors, rough dielectrics, an HDR environment, point, spot and directional lights, each built
-from models both renderers share (exact conductor Fresnel from eta and k, no multiple-scattering
-lobe, a hard-edged spot; bench/mitsuba_compare.py translates the scenes).
+conductors, rough dielectrics, an HDR environment, point, spot and directional lights, an
+emissive texture, each built from models both renderers share (exact conductor Fresnel from eta
+and k, no multiple-scattering lobe, a hard-edged spot, an area emitter with a bitmap radiance;
+bench/mitsuba_compare.py translates the scenes).
 
 Per scene: the channel means of each renderer's long render (--ref-spp) and their ratio; then
 the RMSE of Caustic's and of Mitsuba's --spp render against Mitsuba's long render, over

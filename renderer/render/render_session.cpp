@@ -22,6 +22,13 @@ using Clock = Interrupt::Clock;
 constexpr int kTileSize = 16;
 
 // Estimates every pixel of one tile for one pass, into `out`.
+// The share of a pixel's footprint a texture lookup filters over when the pixel takes `rays`
+// camera rays: 1 / sqrt(rays) (pbrt-v4's scaling of ray differentials by the samples per pixel),
+// no less than 1/8.
+float footprintScale(double rays) {
+    return float(std::clamp(1.0 / std::sqrt(std::max(rays, 1.0)), 0.125, 1.0));
+}
+
 struct TileRenderer {
     const Scene& scene;
     const Integrator& integrator;
@@ -36,10 +43,14 @@ struct TileRenderer {
     // The emission seen directly through pixel (x, y), from the sample's own points.
     Color seenEmission(const Sampler& sampler, int x, int y, uint64_t& rays) const {
         const uint32_t k = uint32_t(settings.emissionSamples);
+        // An emissive texture seen here is filtered over the share of the pixel each of the
+        // pixel's spp x k rays covers, as a material's textures are over 1 / sqrt(spp).
+        const float footprint = footprintScale(double(settings.spp) * k);
         Color sum(0.0f);
         for (uint32_t j = 0; j < k; ++j) {
             Vec2 p = sampler.pixelPoint(j, k);
-            sum += seen->along(scene.camera.generateRay(float(x) + p.x, float(y) + p.y), rays);
+            sum += seen->along(scene.camera.generateRay(float(x) + p.x, float(y) + p.y), rays,
+                               footprint);
         }
         return sum / float(k);
     }
@@ -60,7 +71,7 @@ struct TileRenderer {
         SampleContext ctx;
         ctx.interrupt = InterruptPoller(&interrupt);
         ctx.cameraEmission = seen == nullptr;
-        ctx.footprintScale = std::clamp(1.0f / std::sqrt(float(settings.spp)), 0.125f, 1.0f);
+        ctx.footprintScale = footprintScale(double(settings.spp));
         for (int y = ty; y < y1; ++y) {
             for (int x = tx; x < x1; ++x) {
                 uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);

@@ -47,7 +47,7 @@ bool SeenEmission::mayHitEmitter(const Ray& ray) const {
     return false;
 }
 
-Color SeenEmission::along(const Ray& ray, uint64_t& rays) const {
+Color SeenEmission::along(const Ray& ray, uint64_t& rays, float footprintScale) const {
     if (!mayHitEmitter(ray)) return Color(0.0f);
     ++rays;
     std::optional<Hit> hit = intersectVisible(scene_, accel_, ray, kInfinity, rays);
@@ -57,7 +57,7 @@ Color SeenEmission::along(const Ray& ray, uint64_t& rays) const {
     SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
     if (!m.isTextured()) return m.Le(-ray.d, si.n);
     MaterialScratch scratch;
-    return scene_.shade(si, scratch).Le(-ray.d, si.n);
+    return scene_.shade(si, scratch, footprintScale).Le(-ray.d, si.n);
 }
 
 }  // namespace caustic

@@ -42,8 +42,9 @@ public:
     }
     /// The emission of the first surface along `ray` towards its origin, or black when it emits
     /// nothing or there is none (the background stays the sample's own ray's: it has no bounds
-    /// to test against). Counts the ray it traces into `rays`. Thread-safe.
-    Color along(const Ray& ray, uint64_t& rays) const;
+    /// to test against). Counts the ray it traces into `rays`. An emissive texture is filtered
+    /// over `footprintScale` of a pixel's footprint (Scene::shade). Thread-safe.
+    Color along(const Ray& ray, uint64_t& rays, float footprintScale) const;
 
 private:
     bool mayHitEmitter(const Ray& ray) const;

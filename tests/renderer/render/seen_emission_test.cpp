@@ -93,7 +93,7 @@ TEST(SeenEmission, SkipsOnlyPixelsThroughWhichNoEmitterIsSeen) {
                 Ray ray = scene->camera.generateRay(float(x) + u.x, float(y) + u.y);
                 std::optional<Hit> hit = accel->intersect(ray, kInfinity);
                 uint64_t rays = 0;
-                Color Le = seen.along(ray, rays);
+                Color Le = seen.along(ray, rays, 1.0f);
                 bool emits = hit && scene->material(hit->prim).isEmissive();
                 // along() sees what the accelerator finds, and skips no ray that meets a lamp.
                 EXPECT_EQ(!isBlack(Le), emits) << x << ", " << y;

@@ -77,5 +77,34 @@ TEST(EmissiveTexture, AHalfBlackTextureLightsAsTheOtherHalfAlone) {
     EXPECT_NEAR(rgb[3 * (8 * 16 + 12)], 3.0f, 0.05f);
 }
 
+// An emissive texture the camera sees is filtered over the share of the pixel each camera ray
+// covers, whether the integrator's own rays see it (emission_samples 0) or the render's
+// seen-emission rays do (spp x emission_samples of them): the two images agree to their noise,
+// where a whole pixel's footprint on the second would blur every edge of the checker.
+TEST(EmissiveTexture, SeenDirectlyItIsFilteredOverItsRaysShareOfThePixel) {
+    testing::TempDir dir;
+    testing::writeChecker(dir.path() / "checker.png", 32, 16);  // cells of 2 texels
+    json doc = json::parse(R"({
+      "camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "fov": 90, "width": 32, "height": 32},
+      "materials": {"lamp": {"type": "metallic_roughness", "base_color": [0, 0, 0],
+                             "emission": [1, 1, 1], "emissive_texture": "checker.png"}},
+      "shapes": [{"type": "quad", "origin": [-1, -1, 0], "u": [2, 0, 0], "v": [0, 2, 0],
+                  "material": "lamp"}]
+    })");
+    auto scene = testing::loadWithAssets(dir, doc);
+    auto image = [&](int emissionSamples) {
+        return render(*scene, testing::settingsFrom({{"integrator", "path"},
+                                                     {"spp", 64},
+                                                     {"emission_samples", emissionSamples}}))
+            .film->meanRgb();
+    };
+    const double difference = testing::rmse(image(0), image(4));
+    std::printf("RMSE between the integrator's and the seen-emission rays' images: %.4f\n",
+                difference);
+    // Their noise alone: 0.025 (the camera rays' sampling of the checker's edges); with a whole
+    // pixel's footprint on the seen-emission rays, 0.070.
+    EXPECT_LT(difference, 0.04);
+}
+
 }  // namespace
 }  // namespace caustic
