@@ -84,6 +84,8 @@ def material(name, m):
         surface.inputs["Color"].default_value = (*m.get("tint", [1, 1, 1]), 1)
         surface.inputs["Roughness"].default_value = 0.0
         surface.inputs["IOR"].default_value = float(m.get("ior", 1.5))
+    elif kind == "metallic_roughness":
+        surface = principled(nodes, links, m)
     else:
         sys.exit(f"cycles_compare: material type {kind!r} has no translation")
     shader = surface.outputs[0]
@@ -105,9 +107,92 @@ def material(name, m):
     return mat
 
 
-def mesh_object(name, verts, faces, mat, smooth=False):
+def principled(nodes, links, m):
+    """metallic_roughness (glTF's model) as the Principled BSDF: not the same model (Cycles
+    layers its specular over the diffuse by the specular's albedo, where glTF mixes them by a
+    Fresnel term), so the comparison is of means, within 3%. IOR 1.5 is glTF's F0 of 0.04;
+    roughness is perceptual in both; multiple-scattering GGX, as Caustic's compensation. Only the
+    base colour may be a texture, sRGB, through its KHR_texture_transform."""
+    for key in ("metallic_roughness_texture", "normal_texture", "emissive_texture",
+                "transmission", "alpha_mode"):
+        if key in m:
+            sys.exit(f"cycles_compare: the Principled BSDF has no translation of {key!r}")
+    surface = nodes.new("ShaderNodeBsdfPrincipled")
+    surface.distribution = "MULTI_GGX"
+    surface.inputs["Base Color"].default_value = (*m.get("base_color", [1, 1, 1]), 1)
+    surface.inputs["Metallic"].default_value = float(m.get("metallic", 1.0))
+    surface.inputs["Roughness"].default_value = float(m.get("roughness", 1.0))
+    surface.inputs["IOR"].default_value = 1.5
+    surface.inputs["Specular IOR Level"].default_value = 0.5
+    slot = m.get("base_color_texture")
+    if slot is not None:
+        if "base_color" in m:
+            sys.exit("cycles_compare: a base colour texture times a factor has no translation")
+        name = slot["file"] if isinstance(slot, dict) else slot
+        t = slot.get("transform", {}) if isinstance(slot, dict) else {}
+        image = nodes.new("ShaderNodeTexImage")
+        image.image = bpy.data.images.load(str(REPO / "assets/meshes" / name))
+        image.image.colorspace_settings.name = "sRGB"
+        image.interpolation = "Linear"
+        # glTF's texture coordinates have t down the image, Blender's v up it: the mesh's UVs are
+        # glTF's (quad_uvs), flipped here after the transform (scale, rotation, offset).
+        coords = nodes.new("ShaderNodeTexCoord")
+        mapping = nodes.new("ShaderNodeMapping")
+        mapping.inputs["Scale"].default_value = (*t.get("scale", [1, 1]), 1)
+        mapping.inputs["Rotation"].default_value = (0, 0, math.radians(t.get("rotation", 0.0)))
+        mapping.inputs["Location"].default_value = (*t.get("offset", [0, 0]), 0)
+        flip = nodes.new("ShaderNodeMapping")
+        flip.inputs["Scale"].default_value = (1, -1, 1)
+        flip.inputs["Location"].default_value = (0, 1, 0)
+        links.new(coords.outputs["UV"], mapping.inputs["Vector"])
+        links.new(mapping.outputs["Vector"], flip.inputs["Vector"])
+        links.new(flip.outputs["Vector"], image.inputs["Vector"])
+        links.new(image.outputs["Color"], surface.inputs["Base Color"])
+    return surface
+
+
+def environment_world(env):
+    """Caustic's environment as a Blender world. Coordinates are Caustic's (y up); Blender's
+    equirectangular lookup assumes z up and u = 0.5 - atan2(y, x) / 2 pi, Caustic's
+    u = atan2(x, -z) / 2 pi of the direction turned back by the rotation about y, v from +y
+    (lights/environment_light.cpp): the direction d becomes (d.z, d.x, d.y) for Blender."""
+    world = bpy.data.worlds.new("environment")
+    world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    background = nodes["Background"]
+    background.inputs["Strength"].default_value = float(env.get("strength", 1.0))
+    if "color" in env:
+        background.inputs["Color"].default_value = (*env["color"], 1)
+        return world
+    coords = nodes.new("ShaderNodeTexCoord")
+    turn = nodes.new("ShaderNodeVectorRotate")
+    turn.rotation_type = "Y_AXIS"
+    turn.invert = True
+    turn.inputs["Angle"].default_value = math.radians(float(env.get("rotation", 0.0)))
+    split = nodes.new("ShaderNodeSeparateXYZ")
+    join = nodes.new("ShaderNodeCombineXYZ")
+    texture = nodes.new("ShaderNodeTexEnvironment")
+    texture.image = bpy.data.images.load(str(REPO / "assets/meshes" / env["file"]))
+    texture.image.colorspace_settings.name = "Linear Rec.709"
+    texture.interpolation = "Linear"
+    links.new(coords.outputs["Generated"], turn.inputs["Vector"])
+    links.new(turn.outputs["Vector"], split.inputs["Vector"])
+    links.new(split.outputs["Z"], join.inputs["X"])
+    links.new(split.outputs["X"], join.inputs["Y"])
+    links.new(split.outputs["Y"], join.inputs["Z"])
+    links.new(join.outputs["Vector"], texture.inputs["Vector"])
+    links.new(texture.outputs["Color"], background.inputs["Color"])
+    return world
+
+
+def mesh_object(name, verts, faces, mat, smooth=False, uvs=None):
+    """uvs: one (u, v) per face corner, in the order of the faces' vertices."""
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata([tuple(v) for v in verts], [], faces)
+    if uvs is not None:
+        layer = mesh.uv_layers.new(name="UVMap")
+        for loop, uv in zip(layer.data, uvs):
+            loop.uv = uv
     mesh.update()
     for poly in mesh.polygons:
         poly.use_smooth = smooth
@@ -191,7 +276,9 @@ def build_scene(scene, args):
         mat = mats[s["material"]]
         if s["type"] == "quad":
             o, u, v = (Vector(s[k]) for k in ("origin", "u", "v"))
-            mesh_object(f"shape{i}", [o, o + u, o + u + v, o + v], [(0, 1, 2, 3)], mat)
+            # Caustic's texture coordinates of a quad: (s, 1 - t) at origin + s u + t v.
+            mesh_object(f"shape{i}", [o, o + u, o + u + v, o + v], [(0, 1, 2, 3)], mat,
+                        uvs=[(0, 1), (1, 1), (1, 0), (0, 0)])
         elif s["type"] == "sphere":
             sphere(f"shape{i}", s["center"], float(s["radius"]), mat,
                    bool(s.get("flip_normals", False)))
@@ -202,10 +289,13 @@ def build_scene(scene, args):
             sys.exit(f"cycles_compare: shape type {s['type']!r} has no translation")
     bl = bpy.context.scene
     bl.camera = camera(scene["camera"])
-    world = bpy.data.worlds.new("black")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    bl.world = world
+    if "environment" in scene:
+        bl.world = environment_world(scene["environment"])
+    else:
+        world = bpy.data.worlds.new("black")
+        world.use_nodes = True
+        world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+        bl.world = world
     r = bl.render
     r.engine = "CYCLES"
     r.resolution_x = r.resolution_y = args.size

@@ -120,7 +120,48 @@ def bsdf(material):
             out.update({"type": "roughconductor", "distribution": "ggx", "alpha": alpha,
                         "sample_visible": True})
         return {"type": "twosided", "bsdf": out}
+    if kind == "metallic_roughness":
+        return principled(material)
     sys.exit(f"mitsuba_compare: material type {kind!r} has no translation")
+
+
+def texture_transform(slot):
+    """glTF's KHR_texture_transform (scale, then rotation, then offset) as a Mitsuba to_uv."""
+    t = slot.get("transform", {}) if isinstance(slot, dict) else {}
+    offset, scale = t.get("offset", [0, 0]), t.get("scale", [1, 1])
+    return (mi.ScalarTransform4f().translate([float(offset[0]), float(offset[1]), 0])
+            .rotate([0, 0, 1], float(t.get("rotation", 0.0)))
+            .scale([float(scale[0]), float(scale[1]), 1]))
+
+
+def principled(material):
+    """metallic_roughness (glTF's model) as Mitsuba's `principled` (the Disney BSDF): not the same
+    model (Disney's retro-reflective diffuse, its own metallic mix; no multiple-scattering
+    compensation), so the comparison is of means, within 3%. specular 0.5 is an F0 of 0.04 (ior
+    1.5); roughness is perceptual in both. Only the base colour may be a texture (Mitsuba reads
+    no channel of an image as a scalar). One-sided in Mitsuba: shapes are seen from the front."""
+    for key in ("metallic_roughness_texture", "normal_texture", "transmission", "alpha_mode"):
+        if key in material:
+            sys.exit(f"mitsuba_compare: principled has no translation of {key!r}")
+    out = {"type": "principled", "metallic": float(material.get("metallic", 1.0)),
+           "roughness": float(material.get("roughness", 1.0)), "specular": 0.5,
+           "base_color": rgb(material.get("base_color", [1, 1, 1]))}
+    slot = material.get("base_color_texture")
+    if slot is not None:
+        if "base_color" in material:
+            sys.exit("mitsuba_compare: a base colour texture times a factor has no translation")
+        out["base_color"] = quad_bitmap(slot)
+    return out
+
+
+def quad_bitmap(slot):
+    """A texture slot on a quad as a Mitsuba bitmap (sRGB-decoded, bilinear). A Caustic quad's
+    texture coordinates are (s, 1 - t) for its point origin + s u + t v
+    (geometry/texture_frame.cpp), a Mitsuba rectangle's (s, t); both read row 0 at 0."""
+    name = slot["file"] if isinstance(slot, dict) else slot
+    flip = mi.ScalarTransform4f().translate([0, 1, 0]).scale([1, -1, 1])
+    return {"type": "bitmap", "filename": str(REPO / "assets/meshes" / name),
+            "to_uv": texture_transform(slot) @ flip}
 
 
 def emitters(scene):
@@ -188,7 +229,13 @@ def shape(s, materials):
     else:
         sys.exit(f"mitsuba_compare: shape type {s['type']!r} has no translation")
     out["bsdf"] = bsdf(material)
-    if any(c > 0 for c in material.get("emission", [0, 0, 0])):
+    if "emissive_texture" in material:
+        # Mitsuba's area emitter takes a texture as its radiance, with no factor: 1 here.
+        if s["type"] != "quad" or material.get("emission") != [1, 1, 1]:
+            sys.exit("mitsuba_compare: an emissive texture translates on a quad with emission "
+                     "[1, 1, 1] only")
+        out["emitter"] = {"type": "area", "radiance": quad_bitmap(material["emissive_texture"])}
+    elif any(c > 0 for c in material.get("emission", [0, 0, 0])):
         out["emitter"] = {"type": "area", "radiance": rgb(material["emission"])}
     return out
 

@@ -2,12 +2,17 @@
 """Where a textured scene's render time goes (issue 38, acceptance 5): a scene of 20 textured
 metallic-roughness materials (base colour, metallic-roughness and normal maps, each with its own
 texture transform) on 20 objects under the sky environment, rendered by `caustic render` with path
-tracing, under `perf record` (user-space cycles, the whole process). The share of samples in
+tracing, under `perf record` (the cpu-clock timer event, user space, the whole process: virtual
+machines often have no hardware counters). The share of samples in
 OpenImageIO's texture system (libOpenImageIO) is the texture lookups' share; the share in the
 light-sampling code (the light choice per point, the environment's and the lights' sampling and
 densities, the 2D distributions) is light sampling's. Then the same scene with every texture
 removed (factors kept) and the same settings, rendered in alternation with the textured one: the
 ratio of their render times is what the textures cost end to end.
+
+Samples land in the function that was running: what the compiler inlined (a light's pdf into the
+integrator, a texture frame into the shading) counts for its caller, so the light-sampling share
+is a lower bound. perf needs kernel.perf_event_paranoid <= 2 (Debian's default) and linux-perf.
 
 Usage: bench/texture_share.py [--caustic build/cli/caustic] [--spp 16] [--rounds 3]
 """
@@ -60,7 +65,7 @@ def render(caustic, scene_file, spp, out_dir, name, perf=None):
     cmd = [caustic, "render", scene_file, "-o", os.path.join(out_dir, name + ".exr"),
            "--spp", str(spp), "--seed", "1", "--stats", stats, "--integrator", "path"]
     if perf:
-        cmd = ["perf", "record", "-e", "cycles:u", "-F", "999", "-g", "-o", perf, "--"] + cmd
+        cmd = ["perf", "record", "-e", "cpu-clock:u", "-F", "999", "-o", perf, "--"] + cmd
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     with open(stats) as f:
         return json.load(f)["stats"]
