@@ -94,8 +94,11 @@ std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Co
             return std::nullopt;
         }
         SurfaceInteraction si = scene_.geometry.interaction(ray, *hit);
-        // Returned unshaded: the caller shades it (a textured material is never specular).
-        if (!scene_.materials[si.material]->isSpecular()) return si;
+        // Returned unshaded: the caller shades it (a textured material is never followed).
+        const Material& unshaded = *scene_.materials[si.material];
+        if (!unshaded.isSpecular() &&
+            !(unshaded.lobeRoughness() < float(settings_.followRoughness)))
+            return si;
         const Material& m = shade(si, ctx);
         float uc = ctx.sampler.uniform();
         Vec2 u = ctx.sampler.uniform2();

@@ -34,7 +34,12 @@ public:
         int k = 50;         ///< Photons per density estimate, when radius is 0.
         double radius = 0;  ///< Fixed search radius, 0 for the k nearest; ppm: the first pass's.
         PhotonKernel kernel = PhotonKernel::Cone;
-        int finalGather = 0;       ///< Gather rays per camera path; 0 looks up the global map at x.
+        int finalGather = 0;  ///< Gather rays per camera path; 0 looks up the global map at x.
+        /// Surfaces whose Material::lobeRoughness is below this are followed as mirrors are, by
+        /// camera paths and photons alike, instead of estimated from the maps: a density
+        /// estimate there sees the lobe through the photons' scattered directions and is noisy
+        /// where the lobe is narrow (docs/integrators.md, "Glossy surfaces", measures where).
+        double followRoughness = 0.3;
         double alpha = 2.0 / 3.0;  ///< ppm: the radius reduction per pass.
     };
 
@@ -54,13 +59,16 @@ public:
 
 private:
     PhotonTracingOptions tracingOptions(uint32_t pass, bool causticOnly) const {
-        return photonTracingOptions(trace_,
-                                    causticOnly ? settings_.causticPhotons : settings_.photons,
-                                    pass, causticOnly, interrupt_);
+        PhotonTracingOptions o =
+            photonTracingOptions(trace_, causticOnly ? settings_.causticPhotons : settings_.photons,
+                                 pass, causticOnly, interrupt_);
+        o.followedRoughness = float(settings_.followRoughness);
+        return o;
     }
-    /// Follows specular lobes from `ray` (one sampled lobe per hit) to the first non-specular hit;
-    /// nullopt when the path escapes (`escaped`) or ends. `beta` accumulates the specular weights;
-    /// `ray` becomes the ray that reached the hit, after `bounces` specular bounces.
+    /// Follows specular and followed (Settings::followRoughness) surfaces from `ray`, one BSDF
+    /// sample per hit, to the first other hit; nullopt when the path escapes (`escaped`) or ends.
+    /// `beta` accumulates the samples' weights; `ray` becomes the ray that reached the hit, after
+    /// `bounces` followed bounces.
     std::optional<SurfaceInteraction> firstDiffuseHit(Ray& ray, Color& beta, bool& escaped,
                                                       SampleContext& ctx,
                                                       int* bounces = nullptr) const;

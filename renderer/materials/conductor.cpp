@@ -11,6 +11,7 @@ Conductor::Conductor(float roughness, const ConductorFresnel& fresnel, bool mult
     : Material(emission, roughness < kSmoothRoughness),
       ggx_(Ggx::alphaOf(roughness), Ggx::alphaOf(roughness)),
       fresnel_(fresnel) {
+    if (!isSpecular()) setLobeRoughness(roughness);
     if (multipleScattering && roughness >= kSmoothRoughness)
         multiple_ = MultipleScatteringLobe(roughness, fresnel_.average());
 }

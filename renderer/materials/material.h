@@ -60,7 +60,7 @@ inline std::optional<BsdfSample> specularSample(const SpecularLobe& lobe, const 
 class Material {
 public:
     explicit Material(const Color& emission, bool specular)
-        : emission_(emission), specular_(specular) {}
+        : emission_(emission), specular_(specular), lobeRoughness_(specular ? 0.0f : 1.0f) {}
     virtual ~Material() = default;
 
     /// BSDF value f(wo, wi) for the non-specular part; zero for specular materials. Thread-safe.
@@ -113,6 +113,11 @@ public:
 
     /// True when every lobe is a Dirac delta (mirror, dielectric): no light sampling is possible.
     bool isSpecular() const { return specular_; }
+    /// The perceptual roughness of a surface all of whose lobes are microfacet reflection or
+    /// refraction (the widest of them); 0 for a specular surface, 1 for one with a diffuse lobe.
+    /// The photon mappers follow a surface below their threshold as they do a mirror
+    /// (integrators/photon.h).
+    float lobeRoughness() const { return lobeRoughness_; }
     bool isEmissive() const { return !isBlack(emission_); }
     const Color& emission() const { return emission_; }
     /// Emitted radiance towards w (front side only).
@@ -122,11 +127,13 @@ public:
 
 protected:
     void setTextured() { textured_ = true; }
+    void setLobeRoughness(float roughness) { lobeRoughness_ = roughness; }
     void setAlpha() { alpha_ = true; }
 
 private:
     Color emission_;
     bool specular_;
+    float lobeRoughness_;
     bool textured_ = false;
     bool alpha_ = false;
 };

@@ -27,6 +27,8 @@ MetallicRoughness::MetallicRoughness(const Color& baseColor, float metallic, flo
       metallic_(metallic),
       roughness_(std::max(roughness, kMinRoughness)),
       ggx_(Ggx::alphaOf(roughness_), Ggx::alphaOf(roughness_)) {
+    // A whole metal has no diffuse lobe.
+    if (metallic >= 1.0f) setLobeRoughness(roughness_);
     const GgxAlbedo& table = GgxAlbedo::get();
     const float average =
         f0_ * table.average(roughness_) + (1.0f - f0_) * table.schlickAverage(roughness_);

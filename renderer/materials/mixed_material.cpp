@@ -8,6 +8,7 @@ MixedMaterial::MixedMaterial(std::unique_ptr<Material> a, std::unique_ptr<Materi
                              float weightB)
     : Material(a->emission(), false), a_(std::move(a)), b_(std::move(b)), w_(weightB) {
     CAUSTIC_CHECK(!a_->isSpecular() && !b_->isSpecular());
+    setLobeRoughness(std::max(a_->lobeRoughness(), b_->lobeRoughness()));
 }
 
 std::optional<BsdfSample> MixedMaterial::sample(const Vec3& wo, const Vec3& n, float uc, Vec2 u,

@@ -36,7 +36,9 @@ RoughDielectric::RoughDielectric(float roughness, float ior, FresnelModel fresne
       ggx_(Ggx::alphaOf(roughness), Ggx::alphaOf(roughness)),
       ior_(ior),
       fresnel_(fresnel),
-      tint_(tint) {}
+      tint_(tint) {
+    setLobeRoughness(roughness);
+}
 
 BsdfEval RoughDielectric::evalLocal(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
     const std::optional<HalfVector> h = halfVector(wo, wi, ior_);

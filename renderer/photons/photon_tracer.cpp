@@ -11,6 +11,12 @@
 namespace caustic {
 namespace {
 
+// Whether photons pass a surface of material m (unshaded: a textured one has a diffuse lobe or a
+// roughness only its textures know, and is never passed) without being stored, as a mirror.
+bool followedByPhotons(const Material& m, const PhotonTracingOptions& options) {
+    return m.isSpecular() || m.lobeRoughness() < options.followedRoughness;
+}
+
 // Photon paths are traced in chunks whose results are joined in chunk order, so the photon list
 // does not depend on the number of threads.
 constexpr uint64_t kChunk = 4096;
@@ -45,9 +51,10 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
         std::optional<Hit> hit = intersectVisible(scene, accel, ray, kInfinity, out.rays);
         if (!hit) return;
         SurfaceInteraction si = scene.geometry.interaction(ray, *hit);
+        const bool followed = followedByPhotons(*scene.materials[si.material], options);
         const Material& m = scene.shade(si, out.scratch);
         Vec3 wo = -ray.d;
-        if (!m.isSpecular()) {
+        if (!followed) {
             PhotonPath path = bounces == 0   ? PhotonPath::Direct
                               : specularOnly ? PhotonPath::Caustic
                                              : PhotonPath::Indirect;
@@ -69,7 +76,7 @@ void tracePath(const Scene& scene, const Accelerator& accel, const PhotonTracing
         float q = std::min(1.0f, maxComponent(next) / maxComponent(beta));
         if (!(rng.uniform() < q)) return;
         beta = next / q;
-        specularOnly = specularOnly && bs->specular;
+        specularOnly = specularOnly && (followed || bs->specular);
         ray = Ray{rayOrigin(si, bs->wi), bs->wi};
     }
 }
@@ -81,11 +88,12 @@ PhotonTracing tracePhotons(const Scene& scene, const Accelerator& accel,
     PhotonTracing result;
     result.emitted = options.photons;
     if (scene.lightSampler.empty() || options.photons == 0) return result;
-    // A caustic needs a specular bounce: without a specular material no path could store one, and
+    // A caustic needs a followed bounce: without a followed material no path could store one, and
     // tracing them would only spend rays.
-    if (options.causticOnly &&
-        std::none_of(scene.materials.begin(), scene.materials.end(),
-                     [](const std::unique_ptr<Material>& m) { return m->isSpecular(); }))
+    if (options.causticOnly && std::none_of(scene.materials.begin(), scene.materials.end(),
+                                            [&](const std::unique_ptr<Material>& m) {
+                                                return followedByPhotons(*m, options);
+                                            }))
         return result;
     const uint64_t chunks = (options.photons + kChunk - 1) / kChunk;
     std::vector<Chunk> done(chunks);

@@ -37,6 +37,11 @@ struct PhotonTracingOptions {
     /// can carry no caustic): a cheap, separate caustic map. Its random numbers are independent of
     /// the full tracing's with the same seed and pass.
     bool causticOnly = false;
+    /// Surfaces whose lobeRoughness() is below this are followed as specular ones are: no photon
+    /// is stored on them, and a path that met only such surfaces before it lands is a caustic.
+    /// 0: only specular surfaces (the path tracer's photon maps, whose own paths sample every
+    /// other surface).
+    float followedRoughness = 0.0f;
     /// Polled per path and every few hundred bounces; when it asks to stop, tracing returns
     /// early with `interrupted` set (may be null).
     const Interrupt* interrupt = nullptr;

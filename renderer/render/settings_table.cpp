@@ -258,6 +258,16 @@ std::vector<SettingSpec> rows() {
          .integrators = {"photon"},
          .description = "Final-gather rays per camera path for indirect light; 0 reads the "
                         "global photon map at the visible point."},
+        {.name = "follow_roughness",
+         .field = field(&R::photon, &Photon::followRoughness),
+         .min = 0,
+         .max = 1,
+         .integrators = {"photon", "ppm"},
+         .description = "Surfaces smoother than this roughness (glossy metals, rough glass) are "
+                        "followed as mirrors: camera paths sample their BSDF and photons pass "
+                        "them, instead of a density estimate there, which is noisy where the lobe "
+                        "is narrow; 0 estimates every non-specular surface from the maps "
+                        "(docs/integrators.md, Glossy surfaces)."},
         {.name = "alpha",
          .field = field(&R::photon, &Photon::alpha),
          .min = 0.01,

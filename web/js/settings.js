@@ -11,7 +11,7 @@ import {h} from './format.js';
 const STOP = ['spp', 'time_limit', 'target_error', 'spp_per_pass'];
 const IMAGE = ['width', 'height'];
 const ORDER = ['max_depth', 'rr_depth', 'light_sampling', 'mis', 'caustics', 'photons', 'caustic_photons', 'k',
-  'radius', 'indirect', 'indirect_photons', 'indirect_radius', 'kernel', 'alpha', 'final_gather', 'photon_lookup'];
+  'radius', 'indirect', 'indirect_photons', 'indirect_radius', 'kernel', 'alpha', 'final_gather', 'follow_roughness', 'photon_lookup'];
 
 const byOrder = list => (a, b) => {
   const ia = list.indexOf(a), ib = list.indexOf(b);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 
@@ -123,6 +124,45 @@ TEST(PhotonTracer, PathsAreTagged) {
     doc["materials"]["glass"] = {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}};
     for (const Photon& p : trace(*sceneFromJson(doc), 20000).photons)
         ASSERT_NE(p.path, PhotonPath::Caustic);
+}
+
+// A glossy surface below followedRoughness is passed as a mirror: no photon lands on it, and
+// what it sends on to a diffuse surface is a caustic; at 0 it is a surface like any other.
+TEST(PhotonTracer, SurfacesBelowTheFollowedRoughnessArePassedAsMirrors) {
+    json doc = exampleScene("cornell-spheres");
+    doc["materials"]["glass"] = {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}};
+    doc["materials"]["mirror"] = {
+        {"type", "conductor"}, {"roughness", 0.1}, {"f0", {0.9, 0.9, 0.9}}};
+    auto scene = sceneFromJson(doc);
+    auto accel = createAccelerator("embree", scene->geometry);
+    const uint32_t metal =
+        uint32_t(std::find(scene->materialNames.begin(), scene->materialNames.end(), "mirror") -
+                 scene->materialNames.begin());
+    EXPECT_FLOAT_EQ(scene->materials[metal]->lobeRoughness(), 0.1f);
+    // The metal sphere, from its primitive's bounds.
+    Bounds3 sphere;
+    for (uint32_t prim = 0; prim < scene->geometry.size(); ++prim)
+        if (scene->geometry.material(prim) == metal) sphere = scene->geometry.bounds(prim);
+    const Vec3 centre = 0.5f * (sphere.lo + sphere.hi);
+    const float radius = 0.5f * (sphere.hi.x - sphere.lo.x);
+    auto count = [&](float followed) {
+        PhotonTracingOptions o;
+        o.photons = 20000;
+        o.seed = 3;
+        o.followedRoughness = followed;
+        size_t onMetal = 0, caustic = 0;
+        for (const Photon& p : tracePhotons(*scene, *accel, o).photons) {
+            caustic += p.path == PhotonPath::Caustic;
+            onMetal += glm::length(p.p - centre) < 1.001f * radius;
+        }
+        return std::make_pair(onMetal, caustic);
+    };
+    const auto [mapped, mappedCaustics] = count(0.0f);
+    EXPECT_GT(mapped, 100u);
+    EXPECT_EQ(mappedCaustics, 0u);
+    const auto [followed, followedCaustics] = count(0.2f);
+    EXPECT_EQ(followed, 0u);
+    EXPECT_GT(followedCaustics, 100u);
 }
 
 TEST(PhotonTracer, CausticOnlyTracingEstimatesTheSameCaustics) {

@@ -167,6 +167,7 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
                      {"radius", 0.25},
                      {"kernel", "simpson"},
                      {"final_gather", 3},
+                     {"follow_roughness", 0.25},
                      {"alpha", 0.5},
                      {"sampler", "sobol"},
                      {"adaptive", true},
@@ -199,6 +200,7 @@ TEST(SettingsTable, EveryRowIsBoundToItsField) {
     EXPECT_EQ(s.photon.radius, 0.25);
     EXPECT_EQ(s.photon.kernel, PhotonKernel::Simpson);
     EXPECT_EQ(s.photon.finalGather, 3);
+    EXPECT_EQ(s.photon.followRoughness, 0.25);
     EXPECT_EQ(s.photon.alpha, 0.5);
     EXPECT_EQ(s.sampler, SamplerKind::Sobol);
     EXPECT_TRUE(s.adaptive);
