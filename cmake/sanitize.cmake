@@ -24,9 +24,10 @@ if(CAUSTIC_SANITIZE OR CAUSTIC_FUZZ)
 endif()
 
 if(CAUSTIC_FUZZ)
-    if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    # The C of third_party/ gets the same flags: the C compiler must be clang too.
+    if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang" OR NOT CMAKE_C_COMPILER_ID STREQUAL "Clang")
         message(FATAL_ERROR "CAUSTIC_FUZZ needs clang (libFuzzer): configure with "
-                            "-DCMAKE_CXX_COMPILER=clang++")
+                            "-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++")
     endif()
     # Coverage feedback for the libraries; only the fuzz targets link libFuzzer's main.
     add_compile_options(-fsanitize=fuzzer-no-link)

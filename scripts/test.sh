@@ -18,7 +18,7 @@ bash scripts/build.sh -DCAUSTIC_WERROR=ON
 # too), about 18 minutes on 2 cores after a 12-minute build. Built by clang: GCC takes 25 minutes
 # to build the same instrumented code. Benchmarks are not built.
 if CAUSTIC_BUILD_DIR=$build-sanitize bash scripts/build.sh -DCAUSTIC_WERROR=ON -DCAUSTIC_SANITIZE=ON \
-    -DCMAKE_CXX_COMPILER=clang++ -DCAUSTIC_BUILD_BENCH=OFF; then
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCAUSTIC_BUILD_BENCH=OFF; then
     (cd "$build-sanitize" && ctest --output-on-failure -L sanitize) || status=1
 else
     echo "caustic: the sanitizer build failed" >&2
@@ -27,7 +27,7 @@ fi
 
 # Label "fuzz": five targets of one thread each, two at a time, a minute each.
 if CAUSTIC_BUILD_DIR=$build-fuzz bash scripts/build.sh -DCAUSTIC_WERROR=ON \
-    -DCMAKE_CXX_COMPILER=clang++ -DCAUSTIC_FUZZ=ON; then
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCAUSTIC_FUZZ=ON; then
     (cd "$build-fuzz" && ctest --output-on-failure -L fuzz -j 2) || status=1
 else
     echo "caustic: the fuzz build failed" >&2
