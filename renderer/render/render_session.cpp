@@ -21,7 +21,6 @@ using Clock = Interrupt::Clock;
 
 constexpr int kTileSize = 16;
 
-// Estimates every pixel of one tile for one pass, into `out`.
 // The share of a pixel's footprint a texture lookup filters over when the pixel takes `rays`
 // camera rays: 1 / sqrt(rays) (pbrt-v4's scaling of ray differentials by the samples per pixel),
 // no less than 1/8.
@@ -29,6 +28,7 @@ float footprintScale(double rays) {
     return float(std::clamp(1.0 / std::sqrt(std::max(rays, 1.0)), 0.125, 1.0));
 }
 
+// Estimates every pixel of one tile for one pass, into `out`.
 struct TileRenderer {
     const Scene& scene;
     const Integrator& integrator;
