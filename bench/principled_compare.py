@@ -38,6 +38,9 @@ def parse_args():
     p.add_argument("--out", help="where the picture goes (default: docs/images; with --smoke, "
                    "the caustic binary's build dir /principled_compare)")
     p.add_argument("--smoke", action="store_true", help="32x32, 16 spp")
+    p.add_argument("--furnace", action="store_true",
+                   help="each material alone in a white furnace, one bounce: the models' "
+                   "reflectance compared without the scene")
     p.add_argument("--render-cycles", metavar="EXR",
                    help="(internal) render the scene with Cycles into EXR and exit")
     args = p.parse_args()
@@ -61,6 +64,64 @@ def render_cycles_here(args):
     bl = cycles_compare.build_scene(scene, args)
     _, seconds = cycles_compare.render_cycles(bl, args.spp, 0, False, args.render_cycles)
     print(json.dumps({"seconds": seconds}))
+
+
+def render_all(scene, args):
+    """The scene rendered by Caustic, Mitsuba and Cycles at args.spp: ({renderer: image},
+    {renderer: seconds})."""
+    import mitsuba_compare as mc
+    images, seconds = {}, {}
+    with tempfile.TemporaryDirectory() as scratch:
+        scene_path = Path(scratch) / "scene.json"
+        scene_path.write_text(json.dumps(scene))
+        image, stats, _ = mc.render_caustic(scene_path, args.spp, 0, args)
+        images["caustic"] = image
+        seconds["caustic"] = stats["render_seconds"] + stats["setup_seconds"]
+        t0 = time.perf_counter()
+        images["mitsuba"] = mc.render_mitsuba(scene, args.spp, 0, args, sampler="independent")[0]
+        seconds["mitsuba"] = time.perf_counter() - t0
+        exr = Path(scratch) / "cycles.exr"
+        out = subprocess.run([args.cycles_python, __file__, "--scene", str(scene_path), "--size",
+                              str(args.size), "--spp", str(args.spp), "--max-depth",
+                              str(args.max_depth), "--threads", str(args.threads),
+                              "--render-cycles", str(exr)],
+                             check=True, capture_output=True, text=True, cwd=REPO / "bench")
+        seconds["cycles"] = json.loads(out.stdout.strip().splitlines()[-1])["seconds"]
+        images["cycles"] = mc.read_exr(exr)
+    return images, seconds
+
+
+def furnace(scene, args, command):
+    """Each of the scene's materials on a unit sphere in a white furnace (a constant environment
+    of 1), one bounce: a pixel on the sphere is the material's directional albedo toward the
+    camera, so the disk's mean compares the three models' reflectance alone, with no lighting,
+    geometry or texture between them. Base colour textures become white."""
+    import numpy as np
+    args.max_depth = 1
+    print(f"White furnace, one bounce (max_depth 1), {args.size}x{args.size}, {args.spp} spp "
+          f"each; means over the sphere's disk (the sphere's edge left out). "
+          f"Command: `{command}`\n")
+    print("| material | Caustic (R, G, B) | Mitsuba / Caustic - 1 | Cycles / Caustic - 1 |")
+    print("|---|---|---|---|")
+    # Camera 4 radii away with a 40 degree field: the disk subtends asin(1/4); keep 95% of it.
+    half = np.tan(np.radians(20.0))
+    x = ((np.arange(args.size) + 0.5) / args.size * 2 - 1) * half
+    angle = np.arctan(np.hypot(x[None, :], x[:, None]))
+    disk = angle < 0.95 * np.arcsin(0.25)
+    for name, material in scene["materials"].items():
+        material = {k: v for k, v in material.items() if k != "base_color_texture"}
+        one = {"camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "fov": 40,
+                          "width": args.size, "height": args.size},
+               "materials": {name: material},
+               "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                           "material": name}],
+               "environment": {"color": [1, 1, 1]}}
+        images, _ = render_all(one, args)
+        means = {k: image[disk].mean(axis=0) for k, image in images.items()}
+        rel = {k: ", ".join(f"{100 * x:+.2f}%" for x in means[k] / means["caustic"] - 1)
+               for k in ("mitsuba", "cycles")}
+        print(f"| {name} | {', '.join(f'{x:.4f}' for x in means['caustic'])} | "
+              f"{rel['mitsuba']} | {rel['cycles']} |")
 
 
 def to_png(image, path):
@@ -87,24 +148,10 @@ def main():
                         f'ensure_venv "{venv}" bpy==5.0.1 numpy'], check=True)
     command = os.environ.get("COMPARE_COMMAND") or shlex.join(sys.argv)
     scene = caustic_cli.load_scene(args.scene, args.size)
-    images, seconds = {}, {}
-    with tempfile.TemporaryDirectory() as scratch:
-        scene_path = Path(scratch) / "scene.json"
-        scene_path.write_text(json.dumps(scene))
-        image, stats, _ = mc.render_caustic(scene_path, args.spp, 0, args)
-        images["caustic"] = image
-        seconds["caustic"] = stats["render_seconds"] + stats["setup_seconds"]
-        t0 = time.perf_counter()
-        images["mitsuba"] = mc.render_mitsuba(scene, args.spp, 0, args, sampler="independent")[0]
-        seconds["mitsuba"] = time.perf_counter() - t0
-        exr = Path(scratch) / "cycles.exr"
-        out = subprocess.run([args.cycles_python, __file__, "--scene", args.scene, "--size",
-                              str(args.size), "--spp", str(args.spp), "--max-depth",
-                              str(args.max_depth), "--threads", str(args.threads),
-                              "--render-cycles", str(exr)],
-                             check=True, capture_output=True, text=True, cwd=REPO / "bench")
-        seconds["cycles"] = json.loads(out.stdout.strip().splitlines()[-1])["seconds"]
-        images["cycles"] = mc.read_exr(exr)
+    if args.furnace:
+        furnace(scene, args, command)
+        return
+    images, seconds = render_all(scene, args)
     print(f"Machine: nproc {os.cpu_count()}, {mc.cpu_model()}, Mitsuba {mc.mi.__version__} "
           f"scalar_rgb. Command: `{command}`\n")
     print(f"{Path(args.scene).name}, {args.size}x{args.size}, {args.spp} spp each, path "
