@@ -45,6 +45,9 @@ inline float luminance(const Color& c) {
 inline bool isFinite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+inline bool isFinite(const Vec2& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y);
+}
 inline bool isBlack(const Color& c) {
     return c.r == 0.0f && c.g == 0.0f && c.b == 0.0f;
 }

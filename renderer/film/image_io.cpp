@@ -84,8 +84,11 @@ void writeImage(const fs::path& file, const RgbImage& image, double exposure) {
 
 namespace {
 
-std::unique_ptr<OIIO::ImageInput> openImage(const fs::path& file, int64_t maxPixels) {
-    auto in = OIIO::ImageInput::open(file.string());
+// With `memory`, the image is read from it and `file` only names it (its extension tells OIIO the
+// format).
+std::unique_ptr<OIIO::ImageInput> openImage(const fs::path& file, int64_t maxPixels,
+                                            OIIO::Filesystem::IOProxy* memory = nullptr) {
+    auto in = OIIO::ImageInput::open(file.string(), nullptr, memory);
     if (!in)
         throw std::runtime_error("cannot read " + file.filename().string() + ": " +
                                  OIIO::geterror());
@@ -103,6 +106,12 @@ std::unique_ptr<OIIO::ImageInput> openImage(const fs::path& file, int64_t maxPix
 
 ImageSize readImageSize(const fs::path& file, int64_t maxPixels) {
     auto in = openImage(file, maxPixels);
+    return ImageSize{in->spec().width, in->spec().height};
+}
+
+ImageSize readImageSize(std::string_view bytes, const std::string& name, int64_t maxPixels) {
+    OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
+    auto in = openImage(name, maxPixels, &memory);
     return ImageSize{in->spec().width, in->spec().height};
 }
 

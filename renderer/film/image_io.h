@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace caustic {
@@ -37,5 +38,7 @@ struct ImageSize {
 };
 /// An image's size from its header alone, refused as readImage does.
 ImageSize readImageSize(const std::filesystem::path& file, int64_t maxPixels = 0);
+/// The same from an image's bytes; `name` names it, its extension giving the format.
+ImageSize readImageSize(std::string_view bytes, const std::string& name, int64_t maxPixels = 0);
 
 }  // namespace caustic

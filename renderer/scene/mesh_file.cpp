@@ -85,7 +85,7 @@ TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
                             const MeshTransform& transform, const std::string& name,
                             const std::string& path, uint64_t maxTriangles, bool texcoords) {
     MeshErrors errors{name, path};
-    if (format == MeshFormat::Glb) return parseGlb(bytes, transform, errors);
+    if (format == MeshFormat::Glb) return parseGlb(bytes, transform, texcoords, errors);
     // The line pass names the line at fault; then the loader every scene file goes through.
     checkObjLines(bytes, errors, maxTriangles);
     ViewBuffer buffer(bytes);

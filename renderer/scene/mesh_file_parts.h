@@ -36,8 +36,8 @@ void checkObjLines(std::string_view bytes, const MeshErrors& errors, uint64_t ma
 /// all before tinygltf reads it.
 void checkGlbContainer(std::string_view bytes, const MeshErrors& errors);
 
-/// Reads a glTF 2.0 binary (.glb) from memory; see parseMeshBytes.
-TriangleMesh parseGlb(std::string_view bytes, const MeshTransform& transform,
+/// Reads a glTF 2.0 binary (.glb) from memory as one mesh; see parseMeshBytes.
+TriangleMesh parseGlb(std::string_view bytes, const MeshTransform& transform, bool texcoords,
                       const MeshErrors& errors);
 
 }  // namespace caustic

@@ -20,6 +20,7 @@
 #include "materials/material.h"
 #include "materials/material_scratch.h"
 #include "scene/camera.h"
+#include "scene/embedded_data.h"
 #include "scene/mesh_counts.h"
 #include "scene/mesh_file.h"
 #include "textures/texture_store.h"
@@ -127,6 +128,9 @@ struct SceneOptions {
     /// Where textures' images are prepared and cached: a worker's store, shared by its renders;
     /// null: a scene with textures makes a store of its own.
     std::shared_ptr<TextureStore> textures = nullptr;
+    /// The meshes and images of a scene imported from a model file, which "embedded" shapes and
+    /// textures name; null: "embedded" is an InputError at its path.
+    std::shared_ptr<const EmbeddedData> embedded = nullptr;
 };
 
 /// Builds a scene from its JSON document (DESIGN.md, "Scene format"). Throws InputError naming the

@@ -229,26 +229,56 @@ void addMesh(TriangleMesh mesh, uint32_t material, Scene& scene) {
                                 mesh.texcoords, tangents);
 }
 
-// A mesh from exactly one of "file" (an OBJ in the assets folder) or "asset" (an uploaded mesh).
+// An imported model's mesh, "embedded": its index in SceneOptions::embedded.
+const EmbeddedData::Mesh& embeddedMesh(JsonObject& o, const SceneOptions& options) {
+    const std::string at = o.pathOf("embedded");
+    if (!options.embedded)
+        throw InputError(at, "names a model file's mesh, and this scene comes from no model file");
+    const int64_t index = readInteger(o.require("embedded"), at);
+    if (index < 0 || size_t(index) >= options.embedded->meshes.size())
+        throw InputError(at, "no mesh " + std::to_string(index) + " in the model (it has " +
+                                 std::to_string(options.embedded->meshes.size()) + ")");
+    return options.embedded->meshes[size_t(index)];
+}
+
+// A mesh from exactly one of "file" (an OBJ in the assets folder), "asset" (an uploaded mesh) or
+// "embedded" (an imported model's).
 void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions& options,
               const Frame& frame) {
     const Json* fileField = o.find("file");
     const Json* assetField = o.find("asset");
-    if (fileField && assetField)
-        throw InputError(o.path(), "a mesh has \"file\" or \"asset\", not both");
-    if (!fileField && !assetField)
+    const Json* embeddedField = o.find("embedded");
+    if (int(!!fileField) + int(!!assetField) + int(!!embeddedField) > 1)
+        throw InputError(o.path(), "a mesh has one of \"file\", \"asset\" and \"embedded\"");
+    if (!fileField && !assetField && !embeddedField)
         throw InputError(o.path(),
                          "a mesh needs \"file\" (an OBJ in the assets folder) or "
                          "\"asset\" (an uploaded mesh's id)");
-    const std::string key = fileField ? "file" : "asset";
-    const bool textured = scene.materials[material]->isTextured();
-    const std::string at = o.pathOf(key);
-    const std::string name = o.string(key);
     // Without a transform the mesh stays where its file puts it, relative to the camera.
     MeshTransform transform;
     transform.translate = Vec3(-frame.origin);
     if (const Json* t = o.find("transform"))
         transform = readTransform(*t, o.pathOf("transform"), frame);
+    if (embeddedField) {
+        const TriangleMesh& mesh = embeddedMesh(o, options).mesh;
+        if (options.countMeshesOnly) {
+            scene.countedMeshes.push_back(
+                {MeshCounts{mesh.positions.size(), mesh.triangles.size(), !mesh.normals.empty(),
+                            !mesh.texcoords.empty()},
+                 material});
+            return;
+        }
+        TriangleMesh placed = mesh;
+        for (Vec3& p : placed.positions) p = transform.apply(p);
+        for (Vec3& n : placed.normals) n = transform.applyToNormal(n);
+        if (!scene.materials[material]->isTextured()) placed.texcoords.clear();
+        addMesh(std::move(placed), material, scene);
+        return;
+    }
+    const std::string key = fileField ? "file" : "asset";
+    const bool textured = scene.materials[material]->isTextured();
+    const std::string at = o.pathOf(key);
+    const std::string name = o.string(key);
 
     if (fileField) {
         std::filesystem::path full = resolveAsset(options.assetsDir, name, at);

@@ -37,6 +37,18 @@ void readTransform(const Json& j, const std::string& path, TextureSlot& slot) {
     slot.offset = offset;
 }
 
+// An imported model's image, "embedded": its index in SceneOptions::embedded.
+const EmbeddedData::Image& embeddedImage(JsonObject& t, const SceneOptions& options) {
+    const std::string at = t.pathOf("embedded");
+    if (!options.embedded)
+        throw InputError(at, "names a model file's image, and this scene comes from no model file");
+    const int64_t index = readInteger(t.require("embedded"), at);
+    if (index < 0 || size_t(index) >= options.embedded->images.size())
+        throw InputError(at, "no image " + std::to_string(index) + " in the model (it has " +
+                                 std::to_string(options.embedded->images.size()) + ")");
+    return options.embedded->images[size_t(index)];
+}
+
 }  // namespace
 
 TextureSlot readTexture(JsonObject& o, const std::string& key, TextureEncoding encoding,
@@ -47,13 +59,20 @@ TextureSlot readTexture(JsonObject& o, const std::string& key, TextureEncoding e
     const std::string path = o.pathOf(key);
     slot.named = true;
     std::string name, at;
+    const EmbeddedData::Image* embedded = nullptr;
     if (j->is_string()) {
         name = o.string(key);
         at = path;
     } else {
         JsonObject t(*j, path);
-        name = t.string("file");
-        at = t.pathOf("file");
+        if (t.find("embedded")) {
+            embedded = &embeddedImage(t, options);
+            if (t.find("file"))
+                throw InputError(t.pathOf("file"), "a texture has \"file\" or \"embedded\"");
+        } else {
+            name = t.string("file");
+            at = t.pathOf("file");
+        }
         const std::string filter = t.choice("filter", kFilters, "anisotropic");
         slot.filter = filter == "anisotropic" ? TextureFilter::Anisotropic
                       : filter == "trilinear" ? TextureFilter::Trilinear
@@ -65,12 +84,17 @@ TextureSlot readTexture(JsonObject& o, const std::string& key, TextureEncoding e
             if (!(*normalScale >= 0.0f)) throw InputError(t.pathOf("scale"), "must be >= 0");
         }
         t.finish();
+        if (embedded) at = t.pathOf("embedded");
     }
-    const std::filesystem::path file = resolveAsset(options.assetsDir, name, at);
+    const std::filesystem::path file =
+        embedded ? std::filesystem::path() : resolveAsset(options.assetsDir, name, at);
     if (options.countMeshesOnly) {
         // Admission: the image must open and fit; its texels are checked when a render loads it.
         try {
-            (void)readImageSize(file, options.maxPixels);
+            if (embedded)
+                (void)readImageSize(embedded->bytes, embedded->name, options.maxPixels);
+            else
+                (void)readImageSize(file, options.maxPixels);
         } catch (const std::runtime_error& e) {
             throw InputError(at, e.what());
         }
@@ -89,7 +113,8 @@ TextureSlot readTexture(JsonObject& o, const std::string& key, TextureEncoding e
         }
         scene.textureBytes = bytes = scene.textures->cacheBytes();
     }
-    slot.image = &scene.textures->addFile(file, encoding, at);
+    slot.image = embedded ? &scene.textures->add(embedded->bytes, encoding, embedded->name, at)
+                          : &scene.textures->addFile(file, encoding, at);
     // Per texture: its image prepared (once per content: tiled, MIP-mapped) and opened.
     scene.built.add("texture system", secondsSince(start), bytes);
     return slot;

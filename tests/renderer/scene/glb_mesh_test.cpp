@@ -208,10 +208,10 @@ TEST(MeshFileGlb, IndexOutOfRange) {
 TEST(MeshFileGlb, EmptyOrWithoutTriangles) {
     EXPECT_GLB_ERROR("", "the file is empty");
     EXPECT_GLB_ERROR(patchedGlb("/nodes", nlohmann::json::array({nlohmann::json::object()})),
-                     "has no triangles (no node of a scene has a triangle mesh)");
+                     "has no triangles (no node of the scene has a triangle mesh)");
     // A mesh no node draws is not drawn.
     EXPECT_GLB_ERROR(patchedGlb("/scenes/0/nodes", nlohmann::json::array()),
-                     "has no triangles (no node of a scene has a triangle mesh)");
+                     "has no triangles (no node of the scene has a triangle mesh)");
 }
 
 TEST(MeshFileGlb, UrisAreRefused) {
@@ -252,15 +252,22 @@ TEST(MeshFileGlb, ByteRangesAreChecked) {
     EXPECT_GLB_ERROR(m.bytes(), "accessor 0: has no bufferView (it would be all zeros)");
 }
 
-TEST(MeshFileGlb, OnlyTrianglesOfFloatPositions) {
+TEST(MeshFileGlb, TrianglePrimitivesOnly) {
+    // Lines and points are left out; a file with nothing else has no triangles.
     EXPECT_GLB_ERROR(patchedGlb("/meshes/0/primitives/0/mode", 1),
-                     "mesh 0 primitive 0: mode 1 (lines) is not read; only triangles (mode 4)");
-    EXPECT_GLB_ERROR(patchedGlb("/meshes/0/primitives/0/mode", 5),
-                     "mesh 0 primitive 0: mode 5 (triangle strip) is not read; only triangles "
-                     "(mode 4)");
+                     "has no triangles (no node of the scene has a triangle mesh); mesh 0 "
+                     "primitive 0: mode 1 (lines) is not drawn; only triangles are");
+    // Strips and fans (glTF 2.0, "Meshes"): 6 corners make 4 triangles, twice.
+    TriangleMesh strip = parseGlbBytes(patchedGlb("/meshes/0/primitives/0/mode", 5));
+    ASSERT_EQ(strip.triangles.size(), 8u);
+    EXPECT_EQ(strip.triangles[1], glm::uvec3(1, 0, 2));  // odd ones: (i, i + 2, i + 1)
+    TriangleMesh fan = parseGlbBytes(patchedGlb("/meshes/0/primitives/0/mode", 6));
+    ASSERT_EQ(fan.triangles.size(), 8u);
+    EXPECT_EQ(fan.triangles[0], glm::uvec3(1, 2, 0));
     EXPECT_EQ(parseGlbBytes(patchedGlb("/meshes/0/primitives/0/mode", 4)).triangles.size(), 4u);
-    EXPECT_GLB_ERROR(patchedGlb("/accessors/0/componentType", 5123),
-                     "accessor 0: POSITION must be FLOAT VEC3, not UNSIGNED_SHORT VEC3");
+    EXPECT_GLB_ERROR(patchedGlb("/accessors/0/componentType", 5125),
+                     "accessor 0: POSITION must be VEC3 of FLOAT (or of BYTE, UNSIGNED_BYTE, "
+                     "SHORT, UNSIGNED_SHORT with KHR_mesh_quantization), not UNSIGNED_INT VEC3");
     EXPECT_GLB_ERROR(patchedGlb("/meshes/0/primitives/0/attributes", {{"NORMAL", 0}}),
                      "mesh 0 primitive 0: has no POSITION attribute");
 }
@@ -323,7 +330,7 @@ TEST(MeshFileGlb, InstancesAreBoundedBeforeAnyIsRead) {
               {"buffers", {{{"byteLength", m.bin.size()}}}}};
     EXPECT_GLB_ERROR(m.bytes(),
                      "node 8192: the nodes' meshes make more than 33554432 vertices and triangles "
-                     "together, the most a .glb may make");
+                     "together, the most a glTF file may make");
 }
 
 TEST(MeshFileGlb, TheJsonChunkIsBounded) {

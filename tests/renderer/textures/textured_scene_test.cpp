@@ -159,7 +159,7 @@ TEST(TexturedScene, BadTextureFieldsAreErrorsAtTheirJsonPath) {
     expectTextureError(dir, with({{"file", "small.png"}, {"filter", "bicubic"}}), at + "/filter",
                        "anisotropic");
     expectTextureError(dir, with({{"file", "small.png"}, {"wrap", "clamp"}}), at + "/wrap",
-                       "unknown field; valid fields here: file, filter, transform");
+                       "unknown field; valid fields here: embedded, file, filter, transform");
     expectTextureError(dir, with({{"file", "small.png"}, {"transform", {{"scale", {1}}}}}),
                        at + "/transform/scale", "must be an array of 2 numbers");
     // "scale" is a normal map's alone.

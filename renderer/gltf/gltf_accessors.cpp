@@ -1,4 +1,7 @@
-#include "scene/glb_accessors.h"
+#include "gltf/gltf_accessors.h"
+
+#include <algorithm>
+#include <cmath>
 
 #include <cstring>
 #include <sstream>
@@ -98,28 +101,117 @@ ElementBytes elementsOf(const tinygltf::Model& m, int index, size_t elementSize,
     return {buffer.data() + v.byteOffset + a.byteOffset, elementSize, stride, a.count};
 }
 
+size_t componentBytes(int componentType) {
+    switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
+    }
+}
+
+struct UseRule {
+    int type;
+    int components;
+    std::vector<int> componentTypes;
+    const char* what;  ///< what the error says is allowed
+};
+
+UseRule ruleOf(AccessorUse use) {
+    constexpr int kByte = TINYGLTF_COMPONENT_TYPE_BYTE, kUbyte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                  kShort = TINYGLTF_COMPONENT_TYPE_SHORT,
+                  kUshort = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                  kUint = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                  kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    switch (use) {
+    case AccessorUse::Positions:
+        return {TINYGLTF_TYPE_VEC3, 3, {kFloat, kByte, kUbyte, kShort, kUshort},
+                "POSITION must be VEC3 of FLOAT (or of BYTE, UNSIGNED_BYTE, SHORT, UNSIGNED_SHORT "
+                "with KHR_mesh_quantization)"};
+    case AccessorUse::Normals:
+        return {TINYGLTF_TYPE_VEC3, 3, {kFloat, kByte, kShort},
+                "NORMAL must be VEC3 of FLOAT (or of normalized BYTE or SHORT with "
+                "KHR_mesh_quantization)"};
+    case AccessorUse::Texcoords:
+        return {TINYGLTF_TYPE_VEC2, 2, {kFloat, kUbyte, kUshort, kByte, kShort},
+                "TEXCOORD must be VEC2 of FLOAT, UNSIGNED_BYTE or UNSIGNED_SHORT (or of BYTE or "
+                "SHORT with KHR_mesh_quantization)"};
+    case AccessorUse::Indices:
+    default:
+        return {TINYGLTF_TYPE_SCALAR, 1, {kUbyte, kUshort, kUint},
+                "indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT"};
+    }
+}
+
 // The accessor's elements once its type suits `use` and its bytes are in range.
 ElementBytes checkedElements(const tinygltf::Model& m, int index, AccessorUse use,
                              const MeshErrors& errors) {
     const tinygltf::Accessor& a = accessorAt(m, index, errors);
-    if (use == AccessorUse::Positions) {
-        if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-            errors.fail(at(index) + "POSITION must be FLOAT VEC3, not " + typeName(a));
-        return elementsOf(m, index, sizeof(float) * 3, errors);
-    }
-    size_t size = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
-                  : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
-                  : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
-                                                                              : 0;
-    if (a.type != TINYGLTF_TYPE_SCALAR || size == 0)
-        errors.fail(at(index) +
-                    "indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, "
-                    "not " +
-                    typeName(a));
-    if (a.count % 3 != 0)
+    const UseRule rule = ruleOf(use);
+    const bool allowed = a.type == rule.type &&
+                         std::find(rule.componentTypes.begin(), rule.componentTypes.end(),
+                                   a.componentType) != rule.componentTypes.end();
+    if (!allowed) errors.fail(at(index) + rule.what + ", not " + typeName(a));
+    if (use == AccessorUse::Indices && a.count % 3 != 0)
         errors.fail(at(index) + std::to_string(a.count) +
                     " indices are not whole triangles (a multiple of 3)");
-    return elementsOf(m, index, size, errors);
+    return elementsOf(m, index, componentBytes(a.componentType) * size_t(rule.components), errors);
+}
+
+// Component c of an element as a float: FLOAT as stored, an integer as its value or, normalized,
+// mapped to [-1, 1] or [0, 1] (glTF 2.0, "Animations", the normalization table).
+float componentAt(const unsigned char* element, int componentType, bool normalized, int c) {
+    switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float v;
+        std::memcpy(&v, element + 4 * c, 4);
+        return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        int8_t v;
+        std::memcpy(&v, element + c, 1);
+        return normalized ? std::max(float(v) / 127.0f, -1.0f) : float(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+        uint8_t v;
+        std::memcpy(&v, element + c, 1);
+        return normalized ? float(v) / 255.0f : float(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t v;
+        std::memcpy(&v, element + 2 * c, 2);
+        return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
+    }
+    default: {  // UNSIGNED_SHORT: ruleOf allows no other
+        uint16_t v;
+        std::memcpy(&v, element + 2 * c, 2);
+        return normalized ? float(v) / 65535.0f : float(v);
+    }
+    }
+}
+
+// The accessor's values, `components` floats an element, each checked finite.
+template <typename V>
+std::vector<V> readVectors(const tinygltf::Model& m, int index, AccessorUse use,
+                           const MeshErrors& errors) {
+    ElementBytes bytes = checkedElements(m, index, use, errors);
+    const tinygltf::Accessor& a = m.accessors[size_t(index)];
+    constexpr int kComponents = V::length();
+    std::vector<V> out(bytes.count);
+    for (size_t i = 0; i < bytes.count; ++i) {
+        for (int c = 0; c < kComponents; ++c)
+            out[i][c] = componentAt(bytes[i], a.componentType, a.normalized, c);
+        if (!isFinite(out[i])) {
+            std::ostringstream text;
+            text << "vertex " << i << " is not finite (";
+            for (int c = 0; c < kComponents; ++c) text << (c ? ", " : "") << out[i][c];
+            errors.fail(at(index) + text.str() + ")");
+        }
+    }
+    return out;
 }
 
 }  // namespace
@@ -129,20 +221,13 @@ size_t checkAccessor(const tinygltf::Model& m, int index, AccessorUse use,
     return checkedElements(m, index, use, errors).count;
 }
 
-std::vector<Vec3> readPositions(const tinygltf::Model& m, int index, const MeshErrors& errors) {
-    ElementBytes bytes = checkedElements(m, index, AccessorUse::Positions, errors);
-    std::vector<Vec3> positions(bytes.count);
-    for (size_t i = 0; i < bytes.count; ++i) {
-        std::memcpy(&positions[i], bytes[i], sizeof(float) * 3);
-        const Vec3& p = positions[i];
-        if (!isFinite(p)) {
-            std::ostringstream text;
-            text << "vertex " << i << " is not finite (" << p.x << ", " << p.y << ", " << p.z
-                 << ")";
-            errors.fail(at(index) + text.str());
-        }
-    }
-    return positions;
+std::vector<Vec3> readVec3s(const tinygltf::Model& m, int index, AccessorUse use,
+                            const MeshErrors& errors) {
+    return readVectors<Vec3>(m, index, use, errors);
+}
+
+std::vector<Vec2> readTexcoords(const tinygltf::Model& m, int index, const MeshErrors& errors) {
+    return readVectors<Vec2>(m, index, AccessorUse::Texcoords, errors);
 }
 
 std::vector<uint32_t> readIndices(const tinygltf::Model& m, int index, size_t vertexCount,

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "gltf/gltf_model.h"
 #include "scene/json_reader.h"
 #include "scene/mesh_file.h"
 #include "scene/mesh_file_parts.h"
@@ -89,22 +90,27 @@ void checkGlbContainer(std::string_view bytes, const MeshErrors& errors) {
     }
     if (index == 0) errors.fail("chunk 0: missing (a .glb has a JSON chunk)");
 
-    // The JSON chunk: bounded, since tinygltf keeps each node, accessor or mesh in a few hundred
-    // bytes (3 bytes of JSON, "{},", would make 450 of memory: a 64 MB file 10 GB), and parsed
-    // with a depth limit, since tinygltf reads "extras" recursively.
+    checkGltfJson(json, false, errors);
+}
+
+void checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors) {
+    // Bounded, since tinygltf keeps each node, accessor or mesh in a few hundred bytes (3 bytes
+    // of JSON, "{},", would make 450 of memory: a 64 MB file 10 GB), and parsed with a depth
+    // limit, since tinygltf reads "extras" recursively.
+    const std::string at = uris ? "the JSON: " : "chunk 0 (JSON): ";
     if (json.size() > kMaxGlbJsonBytes)
-        errors.fail("chunk 0 (JSON): " + std::to_string(json.size()) + " bytes; at most " +
+        errors.fail(at + std::to_string(json.size()) + " bytes; at most " +
                     std::to_string(kMaxGlbJsonBytes) +
-                    " are read (the mesh data goes in the BIN "
-                    "chunk)");
+                    " are read (the mesh data goes in " + (uris ? "buffers)" : "the BIN chunk)"));
     std::optional<Json> doc = tryParseJson(std::string(json));
     if (!doc || !doc->is_object())
-        errors.fail("chunk 0 (JSON): not a JSON object of at most " +
-                    std::to_string(kMaxJsonDepth) + " levels");
+        errors.fail(at + "not a JSON object of at most " + std::to_string(kMaxJsonDepth) +
+                    " levels");
     for (const auto& [key, value] : doc->items())
         if (value.is_array() && value.size() > kMaxGlbObjects)
-            errors.fail("chunk 0 (JSON): " + std::to_string(value.size()) + " " + key +
-                        "; at most " + std::to_string(kMaxGlbObjects) + " of each are read");
+            errors.fail(at + std::to_string(value.size()) + " " + key + "; at most " +
+                        std::to_string(kMaxGlbObjects) + " of each are read");
+    if (uris) return;
     refuseUris(*doc, "buffers", "buffer", errors);
     refuseUris(*doc, "images", "image", errors);
     // Only the first buffer may stand for the BIN chunk ("GLB-stored Buffer").

@@ -1,0 +1,171 @@
+#include "gltf/gltf_meshes.h"
+
+#include <glm/mat3x3.hpp>
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "gltf/gltf_accessors.h"
+#include "scene/mesh_file.h"
+
+namespace caustic {
+namespace {
+
+constexpr double kFloatMax = std::numeric_limits<float>::max();
+
+const char* modeName(int mode) {
+    constexpr const char* kNames[] = {"points",    "lines",          "line loop",   "line strip",
+                                      "triangles", "triangle strip", "triangle fan"};
+    return mode >= 0 && mode < 7 ? kNames[mode] : "unknown";
+}
+
+int modeOf(const tinygltf::Primitive& prim) {
+    return prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+}
+
+bool isTriangles(int mode) {
+    return mode == TINYGLTF_MODE_TRIANGLES || mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+           mode == TINYGLTF_MODE_TRIANGLE_FAN;
+}
+
+std::string primitiveName(const tinygltf::Model& m, size_t mesh, size_t p) {
+    return gltfObjectName("mesh", mesh, m.meshes[mesh].name) + " primitive " + std::to_string(p);
+}
+
+int attribute(const tinygltf::Primitive& prim, const char* name) {
+    auto it = prim.attributes.find(name);
+    return it == prim.attributes.end() ? -1 : it->second;
+}
+
+// Triangles from a primitive's vertex sequence (its indices, or 0, 1, 2, ...): glTF 2.0,
+// "Meshes": strips take (i, i + 1 + i % 2, i + 2 - i % 2), fans (i + 1, i + 2, 0).
+std::vector<glm::uvec3> trianglesOf(const std::vector<uint32_t>& v, int mode) {
+    std::vector<glm::uvec3> out;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        for (size_t i = 0; i + 2 < v.size(); i += 3) out.emplace_back(v[i], v[i + 1], v[i + 2]);
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (size_t i = 0; i + 2 < v.size(); ++i)
+            out.emplace_back(v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]);
+    } else {
+        for (size_t i = 0; i + 2 < v.size(); ++i) out.emplace_back(v[i + 1], v[i + 2], v[0]);
+    }
+    return out;
+}
+
+uint64_t triangleCount(uint64_t corners, int mode) {
+    if (mode == TINYGLTF_MODE_TRIANGLES) return corners / 3;
+    return corners >= 3 ? corners - 2 : 0;
+}
+
+}  // namespace
+
+GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& nodes,
+                    const MeshErrors& errors) {
+    GltfDraws out;
+    for (const NodeInstance& instance : nodes) {
+        const int meshIndex = m.nodes[instance.node].mesh;
+        if (meshIndex < 0) continue;
+        if (size_t(meshIndex) >= m.meshes.size())
+            errors.fail(gltfObjectName("node", instance.node, m.nodes[instance.node].name) +
+                        ": mesh " + std::to_string(meshIndex) + " does not exist (" +
+                        std::to_string(m.meshes.size()) + " meshes)");
+        const tinygltf::Mesh& mesh = m.meshes[size_t(meshIndex)];
+        for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+            const tinygltf::Primitive& prim = mesh.primitives[p];
+            const std::string at = primitiveName(m, size_t(meshIndex), p) + ": ";
+            const int mode = modeOf(prim);
+            if (!isTriangles(mode)) {
+                out.skipped.push_back(at + "mode " + std::to_string(mode) + " (" +
+                                      modeName(mode) + ") is not drawn; only triangles are");
+                continue;
+            }
+            const int position = attribute(prim, "POSITION");
+            if (position < 0) errors.fail(at + "has no POSITION attribute");
+            GltfDraw draw{instance, size_t(meshIndex), p, prim.material};
+            if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
+                errors.fail(at + "material " + std::to_string(prim.material) +
+                            " does not exist (" + std::to_string(m.materials.size()) +
+                            " materials)");
+            draw.vertices = checkAccessor(m, position, AccessorUse::Positions, errors);
+            const uint64_t corners =
+                prim.indices >= 0 ? checkAccessor(m, prim.indices, AccessorUse::Indices, errors)
+                                  : draw.vertices;
+            if (mode == TINYGLTF_MODE_TRIANGLES && corners % 3 != 0)
+                errors.fail(at + std::to_string(corners) +
+                            " unindexed vertices are not whole triangles (a multiple of 3)");
+            draw.triangles = triangleCount(corners, mode);
+            const int normal = attribute(prim, "NORMAL"), uv = attribute(prim, "TEXCOORD_0");
+            for (auto [accessor, use] : {std::pair{normal, AccessorUse::Normals},
+                                         std::pair{uv, AccessorUse::Texcoords}}) {
+                if (accessor < 0) continue;
+                if (checkAccessor(m, accessor, use, errors) != draw.vertices)
+                    errors.fail(at + "accessor " + std::to_string(accessor) +
+                                " has a count other than POSITION's " +
+                                std::to_string(draw.vertices));
+            }
+            draw.normals = normal >= 0;
+            draw.texcoords = uv >= 0;
+            out.vertices += draw.vertices;
+            out.triangles += draw.triangles;
+            if (out.vertices + out.triangles > kMaxGlbElements)
+                errors.fail(gltfObjectName("node", instance.node, m.nodes[instance.node].name) +
+                            ": the nodes' meshes make more than " +
+                            std::to_string(kMaxGlbElements) +
+                            " vertices and triangles together, the most a glTF file may make");
+            out.draws.push_back(draw);
+        }
+    }
+    return out;
+}
+
+TriangleMesh readDraw(const tinygltf::Model& m, const GltfDraw& draw,
+                      const MeshTransform& transform, bool texcoords, const MeshErrors& errors) {
+    const tinygltf::Primitive& prim = m.meshes[draw.mesh].primitives[draw.primitive];
+    const int position = attribute(prim, "POSITION");
+    std::vector<Vec3> points = readVec3s(m, position, AccessorUse::Positions, errors);
+    std::vector<uint32_t> sequence;
+    if (prim.indices >= 0) {
+        sequence = readIndices(m, prim.indices, points.size(), errors);
+    } else {
+        sequence.resize(points.size());
+        for (uint32_t v = 0; v < points.size(); ++v) sequence[v] = v;
+    }
+    TriangleMesh mesh;
+    const glm::dmat4& world = draw.instance.world;
+    mesh.positions.reserve(points.size());
+    for (size_t v = 0; v < points.size(); ++v) {
+        // In double until the point is known to fit a float (a larger double has no float).
+        glm::dvec3 q(world * glm::dvec4(glm::dvec3(points[v]), 1.0));
+        bool fits = std::abs(q.x) <= kFloatMax && std::abs(q.y) <= kFloatMax &&
+                    std::abs(q.z) <= kFloatMax;
+        Vec3 p = fits ? transform.apply(Vec3(q)) : Vec3(kInfinity);
+        if (!isFinite(p))
+            errors.fail(gltfObjectName("node", draw.instance.node, m.nodes[draw.instance.node].name) +
+                        ": vertex " + std::to_string(v) + " of accessor " +
+                        std::to_string(position) + " is not finite once transformed");
+        mesh.positions.push_back(p);
+    }
+    if (draw.normals) {
+        // Normals transform by the inverse transpose; a singular transform flattens them.
+        const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+        mesh.normals = readVec3s(m, attribute(prim, "NORMAL"), AccessorUse::Normals, errors);
+        for (Vec3& n : mesh.normals) {
+            glm::dvec3 w = normalMatrix * glm::dvec3(n);
+            const double length = glm::length(w);
+            n = length > 0.0 && std::isfinite(length) ? transform.applyToNormal(Vec3(w / length))
+                                                      : Vec3(0.0f);
+        }
+    }
+    if (texcoords && draw.texcoords)
+        mesh.texcoords = readTexcoords(m, attribute(prim, "TEXCOORD_0"), errors);
+    mesh.triangles = trianglesOf(sequence, modeOf(prim));
+    // A mirroring transform turns counter-clockwise faces clockwise; swapping two corners keeps
+    // the front side where the file meant it (glTF 2.0, "Meshes": a negative determinant of the
+    // node's global transform reverses the winding order).
+    if (glm::determinant(glm::dmat3(world)) < 0.0)
+        for (glm::uvec3& t : mesh.triangles) std::swap(t.y, t.z);
+    return mesh;
+}
+
+}  // namespace caustic

@@ -1,0 +1,107 @@
+#include "gltf/gltf_model.h"
+
+#include <stdexcept>
+
+namespace caustic {
+namespace {
+
+// tinygltf's file callbacks. A .glb's refuse everything (checkGltfJson has refused every URI
+// already, so these are a second lock on the same door); a .gltf's go through its reader.
+bool fileExists(const std::string& name, void* user) {
+    const auto* files = static_cast<const GltfFileReader*>(user);
+    return files && (*files)(name).has_value();
+}
+std::string noExpansion(const std::string& file, void*) {
+    return file;
+}
+bool readFile(std::vector<unsigned char>* out, std::string* err, const std::string& name,
+              void* user) {
+    const auto* files = static_cast<const GltfFileReader*>(user);
+    std::optional<std::string> bytes = files ? (*files)(name) : std::nullopt;
+    if (!bytes) {
+        if (err) *err += "no file \"" + name.substr(0, 120) + "\" in the model\n";
+        return false;
+    }
+    out->assign(bytes->begin(), bytes->end());
+    return true;
+}
+bool noFileWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "refused to write a file\n";
+    return false;
+}
+
+// tinygltf hands an image's bytes over without checking a bufferView's range against its buffer,
+// so images in a bufferView are read by imageBytes instead; one from a uri (a file the reader
+// gave, or data: decoded) is kept as it is, encoded. Nothing is decoded here: OpenImageIO decodes
+// the images a material uses, in the texture store.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+    if (image->bufferView < 0 && bytes && size > 0) image->image.assign(bytes, bytes + size);
+    return true;
+}
+
+tinygltf::Model load(std::string_view bytes, bool binary, const GltfFileReader* files,
+                     const MeshErrors& errors) {
+    tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks({&fileExists, &noExpansion, &readFile, &noFileWrite,
+                           const_cast<GltfFileReader*>(files)});
+    loader.SetImageLoader(&keepEncodedImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    bool loaded = false;
+    try {
+        // checkGlbContainer checked a .glb's length against the header's 32-bit field, and
+        // checkGltfJson a .gltf's against kMaxGlbJsonBytes.
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        const auto size = static_cast<unsigned int>(bytes.size());
+        loaded = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, size)
+                        : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, "");
+    } catch (const std::out_of_range&) {
+        // tinygltf reads some arrays with at(): a buffer declaring 0 bytes, with views into it,
+        // threw here (a fuzzing finding). A malformed upload is an error, not a crash.
+        err = "an index or a byte range in the document points outside what the file holds";
+    } catch (const std::exception& e) {
+        err = e.what();
+    }
+    if (!loaded) {
+        err = err.substr(0, err.find('\n'));
+        errors.fail("glTF: " + (err.empty() ? std::string("tinygltf cannot read it") : err));
+    }
+    return model;
+}
+
+}  // namespace
+
+tinygltf::Model loadGlbModel(std::string_view bytes, const MeshErrors& errors) {
+    checkGlbContainer(bytes, errors);
+    return load(bytes, true, nullptr, errors);
+}
+
+tinygltf::Model loadGltfModel(std::string_view json, const GltfFileReader& files,
+                              const MeshErrors& errors) {
+    if (json.empty()) errors.fail("the file is empty");
+    checkGltfJson(json, true, errors);
+    return load(json, false, &files, errors);
+}
+
+std::string_view imageBytes(const tinygltf::Model& m, int index, const MeshErrors& errors) {
+    const std::string at = "image " + std::to_string(index) + ": ";
+    if (index < 0 || size_t(index) >= m.images.size())
+        errors.fail(at + "does not exist (" + std::to_string(m.images.size()) + " images)");
+    const tinygltf::Image& image = m.images[size_t(index)];
+    if (image.bufferView < 0) {
+        if (image.image.empty()) errors.fail(at + "has no bytes");
+        return {reinterpret_cast<const char*>(image.image.data()), image.image.size()};
+    }
+    const tinygltf::BufferView& v = m.bufferViews[size_t(image.bufferView)];  // tinygltf checked
+    const std::vector<unsigned char>& buffer = m.buffers[size_t(v.buffer)].data;
+    if (v.byteLength == 0 || v.byteLength > buffer.size() ||
+        v.byteOffset > buffer.size() - v.byteLength)
+        errors.fail(at + "bufferView " + std::to_string(image.bufferView) + ": " +
+                    std::to_string(v.byteLength) + " bytes at offset " +
+                    std::to_string(v.byteOffset) + " do not fit buffer " +
+                    std::to_string(v.buffer) + " (" + std::to_string(buffer.size()) + " bytes)");
+    return {reinterpret_cast<const char*>(buffer.data() + v.byteOffset), v.byteLength};
+}
+
+}  // namespace caustic
