@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "film/image_io.h"
+#include "gltf/gltf_scene.h"
 #include "progress_bar.h"
 #include "render/integrator_factory.h"
 #include "render/renderer.h"
@@ -52,6 +53,30 @@ void writeStats(const fs::path& file, const RenderSettings& settings, const Rend
     fs::rename(tmp, file);
 }
 
+// A glTF model as a scene, with the command line's overrides; its warnings and what it holds are
+// printed unless quiet.
+std::unique_ptr<Scene> loadGltfScene(const fs::path& file, const RenderOptions& options,
+                                     SceneOptions& sceneOptions) {
+    const std::string name = file.filename().string(), path;
+    const MeshErrors errors{name, path};
+    GltfImportOptions importOptions;
+    importOptions.maxPixels = sceneOptions.maxPixels;
+    GltfScene imported = importGltf(loadGltfPath(file, errors), importOptions, errors);
+    Json doc = gltfSceneWithOverrides(imported, options.gltf, "", importOptions);
+    sceneOptions.embedded = imported.embedded;
+    std::unique_ptr<Scene> scene = loadScene(doc, sceneOptions);
+    if (!options.quiet) {
+        for (const std::string& w : imported.warnings)
+            std::cerr << "caustic: warning: " << name << ": " << w << "\n";
+        const Json& s = imported.summary;
+        std::cerr << "caustic: " << name << ": " << s["triangles"] << " triangles in " << s["draws"]
+                  << " draws, " << doc["materials"].size() << " materials, " << s["textures"].size()
+                  << " textures, " << s["lights"].size() << " lights; camera " << s["camera"].dump()
+                  << ", environment " << s["environment"].dump() << "\n";
+    }
+    return scene;
+}
+
 }  // namespace
 
 int runRender(const RenderOptions& options) {
@@ -61,7 +86,13 @@ int runRender(const RenderOptions& options) {
     try {
         SceneOptions sceneOptions;
         sceneOptions.assetsDir = fs::path(options.assets);
-        scene = loadScene(readJsonFile(scenePath), sceneOptions);
+        if (isGltfFileName(scenePath.string())) {
+            scene = loadGltfScene(scenePath, options, sceneOptions);
+        } else {
+            if (!options.gltf.empty())
+                throw InputError("", "--camera and --environment apply to glTF files only");
+            scene = loadScene(readJsonFile(scenePath), sceneOptions);
+        }
         settings = parseSettings(mergeSettings(scene->settings, options.overrides));
         applyResolution(*scene, settings, sceneOptions);
     } catch (const InputError& e) {
@@ -120,8 +151,8 @@ int runRender(const RenderOptions& options) {
             char part[160];
             const bool small = p.bytes < 1000000;
             std::snprintf(part, sizeof part, "%s%s x%d %.3f s %.1f %s", built.empty() ? "" : ", ",
-                          p.part.c_str(), p.count, p.seconds,
-                          double(p.bytes) / (small ? 1e3 : 1e6), small ? "kB" : "MB");
+                          p.part.c_str(), p.count, p.seconds, double(p.bytes) / (small ? 1e3 : 1e6),
+                          small ? "kB" : "MB");
             built += part;
         }
         if (!built.empty())

@@ -98,8 +98,9 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
     CLI::App* render = app.add_subcommand("render", "Renders a scene to PNG and EXR images.");
     render
         ->add_option("scene", options.scene,
-                     "A scene JSON file, or the name of an example scene in scenes/ "
-                     "(cornell-spheres, cornell-box, bunny, caustic-glass, meshes, indirect)")
+                     "A scene JSON file, a glTF model (.glb, or .gltf with its files beside it), "
+                     "or the name of an example scene in scenes/ (cornell-spheres, cornell-box, "
+                     "bunny, caustic-glass, meshes, indirect)")
         ->type_name("FILE|NAME")
         ->required();
     render
@@ -136,6 +137,37 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
             "--no-progress", [&options] { options.progress = 0; }, "Draws no progress bar")
         ->trigger_on_parse();
     render->add_flag("-q,--quiet", options.quiet, "Prints neither progress nor the summary line");
+    render
+        ->add_option_function<std::string>(
+            "--camera",
+            [&options](const std::string& camera) {
+                const bool index =
+                    !camera.empty() && camera.find_first_not_of("0123456789") == std::string::npos;
+                options.gltf["camera"] = camera == "auto"
+                                             ? nlohmann::json{{"auto", nlohmann::json::object()}}
+                                         : index ? nlohmann::json{{"gltf", std::stoi(camera)}}
+                                                 : nlohmann::json{{"gltf", camera}};
+            },
+            "glTF only: the file's camera to render through, by index or name, or auto (framing "
+            "the scene; default: the file's first camera, else auto)")
+        ->type_name("INDEX|NAME|auto");
+    render
+        ->add_option_function<std::string>(
+            "--environment",
+            [&options](const std::string& environment) {
+                options.gltf["environment"] =
+                    environment == "none" ? nlohmann::json() : nlohmann::json::parse(environment);
+            },
+            "glTF only: the environment as scene JSON ('{\"file\": \"sky.exr\"}'), or none "
+            "(default: the file's lights alone, or a white environment when it has none)")
+        ->type_name("JSON|none")
+        ->check(
+            [](const std::string& e) {
+                return e == "none" || nlohmann::json::accept(e)
+                           ? std::string()
+                           : "must be JSON or none, got \"" + e + "\"";
+            },
+            "");
     addSettingOptions(*render, options.overrides);
     return render;
 }

@@ -23,6 +23,9 @@ struct RenderOptions {
     std::string assets;  ///< The folder mesh files resolve in.
     std::string stats;   ///< Where to write the settings and stats as JSON; empty for nowhere.
     int progress = -1;   ///< 1 draws a progress bar, 0 does not, -1 when stderr is a terminal.
+    /// For a glTF file: the overrides of a job's "scene" object (docs/gltf.md), from --camera and
+    /// --environment.
+    nlohmann::json gltf = nlohmann::json::object();
     bool quiet = false;  ///< No progress bar and no summary line.
 };
 

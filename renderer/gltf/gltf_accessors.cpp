@@ -103,13 +103,17 @@ ElementBytes elementsOf(const tinygltf::Model& m, int index, size_t elementSize,
 
 size_t componentBytes(int componentType) {
     switch (componentType) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return 1;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return 2;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            return 4;
+        default:
+            return 0;
     }
 }
 
@@ -121,28 +125,39 @@ struct UseRule {
 };
 
 UseRule ruleOf(AccessorUse use) {
-    constexpr int kByte = TINYGLTF_COMPONENT_TYPE_BYTE, kUbyte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+    constexpr int kByte = TINYGLTF_COMPONENT_TYPE_BYTE,
+                  kUbyte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
                   kShort = TINYGLTF_COMPONENT_TYPE_SHORT,
                   kUshort = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                   kUint = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
                   kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
     switch (use) {
-    case AccessorUse::Positions:
-        return {TINYGLTF_TYPE_VEC3, 3, {kFloat, kByte, kUbyte, kShort, kUshort},
+        case AccessorUse::Positions:
+            return {
+                TINYGLTF_TYPE_VEC3,
+                3,
+                {kFloat, kByte, kUbyte, kShort, kUshort},
                 "POSITION must be VEC3 of FLOAT (or of BYTE, UNSIGNED_BYTE, SHORT, UNSIGNED_SHORT "
                 "with KHR_mesh_quantization)"};
-    case AccessorUse::Normals:
-        return {TINYGLTF_TYPE_VEC3, 3, {kFloat, kByte, kShort},
-                "NORMAL must be VEC3 of FLOAT (or of normalized BYTE or SHORT with "
-                "KHR_mesh_quantization)"};
-    case AccessorUse::Texcoords:
-        return {TINYGLTF_TYPE_VEC2, 2, {kFloat, kUbyte, kUshort, kByte, kShort},
+        case AccessorUse::Normals:
+            return {TINYGLTF_TYPE_VEC3,
+                    3,
+                    {kFloat, kByte, kShort},
+                    "NORMAL must be VEC3 of FLOAT (or of normalized BYTE or SHORT with "
+                    "KHR_mesh_quantization)"};
+        case AccessorUse::Texcoords:
+            return {
+                TINYGLTF_TYPE_VEC2,
+                2,
+                {kFloat, kUbyte, kUshort, kByte, kShort},
                 "TEXCOORD must be VEC2 of FLOAT, UNSIGNED_BYTE or UNSIGNED_SHORT (or of BYTE or "
                 "SHORT with KHR_mesh_quantization)"};
-    case AccessorUse::Indices:
-    default:
-        return {TINYGLTF_TYPE_SCALAR, 1, {kUbyte, kUshort, kUint},
-                "indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT"};
+        case AccessorUse::Indices:
+        default:
+            return {TINYGLTF_TYPE_SCALAR,
+                    1,
+                    {kUbyte, kUshort, kUint},
+                    "indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT"};
     }
 }
 
@@ -151,9 +166,9 @@ ElementBytes checkedElements(const tinygltf::Model& m, int index, AccessorUse us
                              const MeshErrors& errors) {
     const tinygltf::Accessor& a = accessorAt(m, index, errors);
     const UseRule rule = ruleOf(use);
-    const bool allowed = a.type == rule.type &&
-                         std::find(rule.componentTypes.begin(), rule.componentTypes.end(),
-                                   a.componentType) != rule.componentTypes.end();
+    const bool allowed =
+        a.type == rule.type && std::find(rule.componentTypes.begin(), rule.componentTypes.end(),
+                                         a.componentType) != rule.componentTypes.end();
     if (!allowed) errors.fail(at(index) + rule.what + ", not " + typeName(a));
     if (use == AccessorUse::Indices && a.count % 3 != 0)
         errors.fail(at(index) + std::to_string(a.count) +
@@ -165,31 +180,31 @@ ElementBytes checkedElements(const tinygltf::Model& m, int index, AccessorUse us
 // mapped to [-1, 1] or [0, 1] (glTF 2.0, "Animations", the normalization table).
 float componentAt(const unsigned char* element, int componentType, bool normalized, int c) {
     switch (componentType) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-        float v;
-        std::memcpy(&v, element + 4 * c, 4);
-        return v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_BYTE: {
-        int8_t v;
-        std::memcpy(&v, element + c, 1);
-        return normalized ? std::max(float(v) / 127.0f, -1.0f) : float(v);
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-        uint8_t v;
-        std::memcpy(&v, element + c, 1);
-        return normalized ? float(v) / 255.0f : float(v);
-    }
-    case TINYGLTF_COMPONENT_TYPE_SHORT: {
-        int16_t v;
-        std::memcpy(&v, element + 2 * c, 2);
-        return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
-    }
-    default: {  // UNSIGNED_SHORT: ruleOf allows no other
-        uint16_t v;
-        std::memcpy(&v, element + 2 * c, 2);
-        return normalized ? float(v) / 65535.0f : float(v);
-    }
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+            float v;
+            std::memcpy(&v, element + 4 * c, 4);
+            return v;
+        }
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            int8_t v;
+            std::memcpy(&v, element + c, 1);
+            return normalized ? std::max(float(v) / 127.0f, -1.0f) : float(v);
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+            uint8_t v;
+            std::memcpy(&v, element + c, 1);
+            return normalized ? float(v) / 255.0f : float(v);
+        }
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            int16_t v;
+            std::memcpy(&v, element + 2 * c, 2);
+            return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
+        }
+        default: {  // UNSIGNED_SHORT: ruleOf allows no other
+            uint16_t v;
+            std::memcpy(&v, element + 2 * c, 2);
+            return normalized ? float(v) / 65535.0f : float(v);
+        }
     }
 }
 

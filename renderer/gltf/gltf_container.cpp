@@ -54,7 +54,7 @@ void refuseUris(const Json& doc, const char* key, const char* object, const Mesh
 
 }  // namespace
 
-void checkGlbContainer(std::string_view bytes, const MeshErrors& errors) {
+Json checkGlbContainer(std::string_view bytes, const MeshErrors& errors) {
     // Header.
     if (bytes.empty()) errors.fail("the file is empty");
     if (bytes.substr(0, 4) != std::string_view("glTF").substr(0, std::min<size_t>(4, bytes.size())))
@@ -90,18 +90,18 @@ void checkGlbContainer(std::string_view bytes, const MeshErrors& errors) {
     }
     if (index == 0) errors.fail("chunk 0: missing (a .glb has a JSON chunk)");
 
-    checkGltfJson(json, false, errors);
+    return checkGltfJson(json, false, errors);
 }
 
-void checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors) {
+Json checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors) {
     // Bounded, since tinygltf keeps each node, accessor or mesh in a few hundred bytes (3 bytes
     // of JSON, "{},", would make 450 of memory: a 64 MB file 10 GB), and parsed with a depth
     // limit, since tinygltf reads "extras" recursively.
     const std::string at = uris ? "the JSON: " : "chunk 0 (JSON): ";
     if (json.size() > kMaxGlbJsonBytes)
         errors.fail(at + std::to_string(json.size()) + " bytes; at most " +
-                    std::to_string(kMaxGlbJsonBytes) +
-                    " are read (the mesh data goes in " + (uris ? "buffers)" : "the BIN chunk)"));
+                    std::to_string(kMaxGlbJsonBytes) + " are read (the mesh data goes in " +
+                    (uris ? "buffers)" : "the BIN chunk)"));
     std::optional<Json> doc = tryParseJson(std::string(json));
     if (!doc || !doc->is_object())
         errors.fail(at + "not a JSON object of at most " + std::to_string(kMaxJsonDepth) +
@@ -110,12 +110,13 @@ void checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors) {
         if (value.is_array() && value.size() > kMaxGlbObjects)
             errors.fail(at + std::to_string(value.size()) + " " + key + "; at most " +
                         std::to_string(kMaxGlbObjects) + " of each are read");
-    if (uris) return;
+    if (uris) return std::move(*doc);
     refuseUris(*doc, "buffers", "buffer", errors);
     refuseUris(*doc, "images", "image", errors);
     // Only the first buffer may stand for the BIN chunk ("GLB-stored Buffer").
     if (auto buffers = doc->find("buffers"); buffers != doc->end() && buffers->size() > 1)
         errors.fail("buffer 1: a .glb without URIs holds one buffer, its BIN chunk");
+    return std::move(*doc);
 }
 
 }  // namespace caustic

@@ -76,17 +76,16 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
             const std::string at = primitiveName(m, size_t(meshIndex), p) + ": ";
             const int mode = modeOf(prim);
             if (!isTriangles(mode)) {
-                out.skipped.push_back(at + "mode " + std::to_string(mode) + " (" +
-                                      modeName(mode) + ") is not drawn; only triangles are");
+                out.skipped.push_back(at + "mode " + std::to_string(mode) + " (" + modeName(mode) +
+                                      ") is not drawn; only triangles are");
                 continue;
             }
             const int position = attribute(prim, "POSITION");
             if (position < 0) errors.fail(at + "has no POSITION attribute");
             GltfDraw draw{instance, size_t(meshIndex), p, prim.material};
             if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
-                errors.fail(at + "material " + std::to_string(prim.material) +
-                            " does not exist (" + std::to_string(m.materials.size()) +
-                            " materials)");
+                errors.fail(at + "material " + std::to_string(prim.material) + " does not exist (" +
+                            std::to_string(m.materials.size()) + " materials)");
             draw.vertices = checkAccessor(m, position, AccessorUse::Positions, errors);
             const uint64_t corners =
                 prim.indices >= 0 ? checkAccessor(m, prim.indices, AccessorUse::Indices, errors)
@@ -96,8 +95,8 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
                             " unindexed vertices are not whole triangles (a multiple of 3)");
             draw.triangles = triangleCount(corners, mode);
             const int normal = attribute(prim, "NORMAL"), uv = attribute(prim, "TEXCOORD_0");
-            for (auto [accessor, use] : {std::pair{normal, AccessorUse::Normals},
-                                         std::pair{uv, AccessorUse::Texcoords}}) {
+            for (auto [accessor, use] :
+                 {std::pair{normal, AccessorUse::Normals}, std::pair{uv, AccessorUse::Texcoords}}) {
                 if (accessor < 0) continue;
                 if (checkAccessor(m, accessor, use, errors) != draw.vertices)
                     errors.fail(at + "accessor " + std::to_string(accessor) +
@@ -137,13 +136,14 @@ TriangleMesh readDraw(const tinygltf::Model& m, const GltfDraw& draw,
     for (size_t v = 0; v < points.size(); ++v) {
         // In double until the point is known to fit a float (a larger double has no float).
         glm::dvec3 q(world * glm::dvec4(glm::dvec3(points[v]), 1.0));
-        bool fits = std::abs(q.x) <= kFloatMax && std::abs(q.y) <= kFloatMax &&
-                    std::abs(q.z) <= kFloatMax;
+        bool fits =
+            std::abs(q.x) <= kFloatMax && std::abs(q.y) <= kFloatMax && std::abs(q.z) <= kFloatMax;
         Vec3 p = fits ? transform.apply(Vec3(q)) : Vec3(kInfinity);
         if (!isFinite(p))
-            errors.fail(gltfObjectName("node", draw.instance.node, m.nodes[draw.instance.node].name) +
-                        ": vertex " + std::to_string(v) + " of accessor " +
-                        std::to_string(position) + " is not finite once transformed");
+            errors.fail(
+                gltfObjectName("node", draw.instance.node, m.nodes[draw.instance.node].name) +
+                ": vertex " + std::to_string(v) + " of accessor " + std::to_string(position) +
+                " is not finite once transformed");
         mesh.positions.push_back(p);
     }
     if (draw.normals) {

@@ -1,6 +1,12 @@
 #include "gltf/gltf_model.h"
 
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
+
+#include "scene/mesh_loader.h"
 
 namespace caustic {
 namespace {
@@ -43,8 +49,8 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
 tinygltf::Model load(std::string_view bytes, bool binary, const GltfFileReader* files,
                      const MeshErrors& errors) {
     tinygltf::TinyGLTF loader;
-    loader.SetFsCallbacks({&fileExists, &noExpansion, &readFile, &noFileWrite,
-                           const_cast<GltfFileReader*>(files)});
+    loader.SetFsCallbacks(
+        {&fileExists, &noExpansion, &readFile, &noFileWrite, const_cast<GltfFileReader*>(files)});
     loader.SetImageLoader(&keepEncodedImage, nullptr);
     tinygltf::Model model;
     std::string err, warn;
@@ -72,16 +78,44 @@ tinygltf::Model load(std::string_view bytes, bool binary, const GltfFileReader* 
 
 }  // namespace
 
-tinygltf::Model loadGlbModel(std::string_view bytes, const MeshErrors& errors) {
-    checkGlbContainer(bytes, errors);
-    return load(bytes, true, nullptr, errors);
+GltfFile loadGlbModel(std::string_view bytes, const MeshErrors& errors) {
+    Json doc = checkGlbContainer(bytes, errors);
+    return {load(bytes, true, nullptr, errors), std::move(doc)};
 }
 
-tinygltf::Model loadGltfModel(std::string_view json, const GltfFileReader& files,
-                              const MeshErrors& errors) {
+GltfFile loadGltfModel(std::string_view json, const GltfFileReader& files,
+                       const MeshErrors& errors) {
     if (json.empty()) errors.fail("the file is empty");
-    checkGltfJson(json, true, errors);
-    return load(json, false, &files, errors);
+    Json doc = checkGltfJson(json, true, errors);
+    return {load(json, false, &files, errors), std::move(doc)};
+}
+
+bool isGltfFileName(const std::string& name) {
+    std::string ext = std::filesystem::path(name).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".glb" || ext == ".gltf";
+}
+
+GltfFile loadGltfPath(const std::filesystem::path& file, const MeshErrors& errors) {
+    auto read = [](const std::filesystem::path& f) -> std::optional<std::string> {
+        std::ifstream in(f, std::ios::binary);
+        if (!in) return std::nullopt;
+        std::ostringstream bytes;
+        bytes << in.rdbuf();
+        return std::move(bytes).str();
+    };
+    std::optional<std::string> bytes = read(file);
+    if (!bytes) errors.fail("cannot open it");
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".glb") return loadGlbModel(*bytes, errors);
+    const std::filesystem::path folder = file.parent_path().empty() ? "." : file.parent_path();
+    GltfFileReader beside = [&](const std::string& uri) -> std::optional<std::string> {
+        return read(resolveAsset(folder, uri, errors.path));  // InputError: it leaves the folder
+    };
+    return loadGltfModel(*bytes, beside, errors);
 }
 
 std::string_view imageBytes(const tinygltf::Model& m, int index, const MeshErrors& errors) {

@@ -5,12 +5,14 @@
 
 #include <tiny_gltf.h>
 
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "scene/json_reader.h"
 #include "scene/mesh_file_parts.h"
 
 namespace caustic {
@@ -23,13 +25,30 @@ using GltfFileReader = std::function<std::optional<std::string>(const std::strin
 /// Checks a glTF JSON document before tinygltf reads it: at most kMaxGlbJsonBytes, parsed with
 /// a depth limit, at most kMaxGlbObjects objects of each kind; without `uris` (a .glb), every
 /// buffer and image "uri" is refused, data: included, and only buffer 0 (the BIN chunk) may exist.
-void checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors);
+/// Returns the document.
+Json checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors);
+/// Checks a .glb's header and chunks and its JSON chunk (checkGltfJson, no URIs), before tinygltf
+/// reads it; returns the document.
+Json checkGlbContainer(std::string_view bytes, const MeshErrors& errors);
+
+/// A glTF file read: tinygltf's model (nodes, meshes, accessors, buffers, images) and the JSON
+/// document it came from (materials, cameras, lights and extensions are read from it).
+struct GltfFile {
+    tinygltf::Model model;
+    Json doc;
+};
 
 /// A .glb (checkGlbContainer, then tinygltf): everything is inside the file.
-tinygltf::Model loadGlbModel(std::string_view bytes, const MeshErrors& errors);
+GltfFile loadGlbModel(std::string_view bytes, const MeshErrors& errors);
 /// A .gltf's JSON text, its buffers and images read through `files`.
-tinygltf::Model loadGltfModel(std::string_view json, const GltfFileReader& files,
-                              const MeshErrors& errors);
+GltfFile loadGltfModel(std::string_view json, const GltfFileReader& files,
+                       const MeshErrors& errors);
+
+/// Whether a file name ends in .glb or .gltf (any case): a model file rather than a scene.
+bool isGltfFileName(const std::string& name);
+/// A .glb or .gltf file; a .gltf's buffers and images are files in its own folder (relative
+/// URIs that stay inside it).
+GltfFile loadGltfPath(const std::filesystem::path& file, const MeshErrors& errors);
 
 /// The encoded bytes (PNG, JPEG, ...) of image `index`: a range of its bufferView, checked against
 /// the view and the buffer, or the file its uri named. Fails naming the image.

@@ -32,7 +32,7 @@ void append(TriangleMesh& mesh, TriangleMesh part) {
 
 TriangleMesh parseGlb(std::string_view bytes, const MeshTransform& transform, bool texcoords,
                       const MeshErrors& errors) {
-    tinygltf::Model model = loadGlbModel(bytes, errors);
+    const tinygltf::Model model = loadGlbModel(bytes, errors).model;
     GltfDraws draws = gltfDraws(model, walkNodes(model, errors), errors);
     TriangleMesh mesh;
     for (const GltfDraw& draw : draws.draws)

@@ -32,10 +32,6 @@ struct MeshErrors {
 /// kMaxObjFaceCorners corners, and the faces make at most `maxTriangles` triangles (n - 2 each).
 void checkObjLines(std::string_view bytes, const MeshErrors& errors, uint64_t maxTriangles);
 
-/// Checks a .glb's header and chunks, parses its JSON chunk and refuses any buffer or image URI,
-/// all before tinygltf reads it.
-void checkGlbContainer(std::string_view bytes, const MeshErrors& errors);
-
 /// Reads a glTF 2.0 binary (.glb) from memory as one mesh; see parseMeshBytes.
 TriangleMesh parseGlb(std::string_view bytes, const MeshTransform& transform, bool texcoords,
                       const MeshErrors& errors);
