@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "film/image_io.h"
 #include "gltf/gltf_scene.h"
+#include "gltf/scene_document.h"
 #include "progress_bar.h"
 #include "render/integrator_factory.h"
 #include "render/renderer.h"
@@ -91,7 +92,7 @@ int runRender(const RenderOptions& options) {
         } else {
             if (!options.gltf.empty())
                 throw InputError("", "--camera and --environment apply to glTF files only");
-            scene = loadScene(readJsonFile(scenePath), sceneOptions);
+            scene = loadSceneDocument(readJsonFile(scenePath), sceneOptions);
         }
         settings = parseSettings(mergeSettings(scene->settings, options.overrides));
         applyResolution(*scene, settings, sceneOptions);

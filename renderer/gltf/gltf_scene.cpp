@@ -101,10 +101,15 @@ private:
                                        file_.model.nodes[draw.instance.node].name) +
                         " mesh " + std::to_string(draw.mesh) + " primitive " +
                         std::to_string(draw.primitive);
-            mesh.mesh = readDraw(file_.model, draw, MeshTransform{}, true, errors_);
-            for (const Vec3& p : mesh.mesh.positions) {
-                lo = glm::min(lo, p);
-                hi = glm::max(hi, p);
+            mesh.counts = {draw.vertices, draw.triangles, draw.normals, draw.texcoords};
+            if (options_.countOnly) {
+                accessorBounds(draw, lo, hi);
+            } else {
+                mesh.mesh = readDraw(file_.model, draw, MeshTransform{}, true, errors_);
+                for (const Vec3& p : mesh.mesh.positions) {
+                    lo = glm::min(lo, p);
+                    hi = glm::max(hi, p);
+                }
             }
             shapes_.push_back({{"type", "mesh"},
                                {"embedded", out_.embedded->meshes.size()},
@@ -113,6 +118,23 @@ private:
         }
         out_.boundsMin = lo;
         out_.boundsMax = hi;
+    }
+
+    // The world box of a draw's POSITION min and max (glTF requires them), its 8 corners
+    // transformed; nothing when the file leaves them out.
+    void accessorBounds(const GltfDraw& draw, glm::vec3& lo, glm::vec3& hi) const {
+        const tinygltf::Primitive& prim = file_.model.meshes[draw.mesh].primitives[draw.primitive];
+        const tinygltf::Accessor& a = file_.model.accessors[size_t(prim.attributes.at("POSITION"))];
+        if (a.minValues.size() != 3 || a.maxValues.size() != 3) return;
+        for (int corner = 0; corner < 8; ++corner) {
+            glm::dvec3 p;
+            for (int i = 0; i < 3; ++i)
+                p[i] = (corner >> i & 1) ? a.maxValues[size_t(i)] : a.minValues[size_t(i)];
+            const glm::vec3 w(draw.instance.world * glm::dvec4(p, 1.0));
+            if (!isFinite(w)) continue;
+            lo = glm::min(lo, w);
+            hi = glm::max(hi, w);
+        }
     }
 
     // Position, forward (-z) and up (+y) of a node's world transform.

@@ -40,6 +40,9 @@ struct GltfImportOptions {
     int64_t maxPixels = int64_t(16384) * 16384;
     /// The long side of the image when neither the file's camera nor an override gives a size.
     int width = 960;
+    /// Count the meshes (EmbeddedData::Mesh::counts) without reading them, and take the bounds
+    /// from the POSITION accessors' min and max: what admission needs, at a fraction of the cost.
+    bool countOnly = false;
 };
 
 /// Imports a file read by loadGlbModel or loadGltfModel. Fails through `errors` naming the glTF

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/mesh_counts.h"
 #include "scene/mesh_loader.h"
 
 namespace caustic {
@@ -13,7 +14,8 @@ namespace caustic {
 struct EmbeddedData {
     struct Mesh {
         std::string name;  ///< "node 4 (Wheel) mesh 1 primitive 0", for messages
-        TriangleMesh mesh;
+        MeshCounts counts;
+        TriangleMesh mesh;  ///< Empty when the import only counted (admission).
     };
     struct Image {
         std::string name;   ///< "image 2 (albedo).png": its extension tells the format

@@ -260,15 +260,12 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
     if (const Json* t = o.find("transform"))
         transform = readTransform(*t, o.pathOf("transform"), frame);
     if (embeddedField) {
-        const TriangleMesh& mesh = embeddedMesh(o, options).mesh;
+        const EmbeddedData::Mesh& embedded = embeddedMesh(o, options);
         if (options.countMeshesOnly) {
-            scene.countedMeshes.push_back(
-                {MeshCounts{mesh.positions.size(), mesh.triangles.size(), !mesh.normals.empty(),
-                            !mesh.texcoords.empty()},
-                 material});
+            scene.countedMeshes.push_back({embedded.counts, material});
             return;
         }
-        TriangleMesh placed = mesh;
+        TriangleMesh placed = embedded.mesh;
         for (Vec3& p : placed.positions) p = transform.apply(p);
         for (Vec3& n : placed.normals) n = transform.applyToNormal(n);
         if (!scene.materials[material]->isTextured()) placed.texcoords.clear();

@@ -13,6 +13,7 @@
 #include "jobs/lease_keeper.h"
 #include "render/render_session.h"
 #include "render/resolution.h"
+#include "gltf/scene_document.h"
 #include "scene/scene.h"
 #include "store/pass_images.h"
 #include "store/store_unavailable.h"
@@ -151,7 +152,7 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
             options.assetsDir = config_.assetsDir;
             options.resolveMeshAsset = storedAssets(store_);
             options.textures = textures_;
-            cache.scene = loadScene(job.scene, options);
+            cache.scene = loadSceneDocument(job.scene, options);
             cache.settings = parseSettings(job.settings);
             applyResolution(*cache.scene, cache.settings, options);
             if (config_.renderThreads > 0) cache.settings.threads = config_.renderThreads;

@@ -9,7 +9,8 @@
 namespace caustic::server {
 namespace {
 
-Json assetJson(const Asset& a) {
+// `model`: a .glb's scene summary (AssetService::model), null for an OBJ.
+Json assetJson(const Asset& a, const Json& model = nullptr) {
     return {{"id", a.id},
             {"format", a.format},
             {"name", a.name},
@@ -17,7 +18,8 @@ Json assetJson(const Asset& a) {
             {"triangles", a.triangles},
             {"vertices", a.vertices},
             {"bounds", {{"min", a.boundsMin}, {"max", a.boundsMax}}},
-            {"created_at", a.createdAt}};
+            {"created_at", a.createdAt},
+            {"model", model}};
 }
 
 void sendUpload(httplib::Response& res, const Upload& u) {
@@ -26,7 +28,8 @@ void sendUpload(httplib::Response& res, const Upload& u) {
         case Outcome::Created:
         case Outcome::Existing:
             res.set_header("Location", "/api/assets/" + u.asset.id);
-            return sendJson(res, u.outcome == Outcome::Created ? 201 : 200, assetJson(u.asset));
+            return sendJson(res, u.outcome == Outcome::Created ? 201 : 200,
+                            assetJson(u.asset, u.model));
         case Outcome::UnsupportedType:
             return sendProblem(res, 415, u.detail);
         case Outcome::BadName:
@@ -128,7 +131,8 @@ void registerAssetRoutes(httplib::Server& http, ApiContext& api) {
     http.Get(asset, [&api](Req req, Res res) {
         std::optional<std::string> id = assetId(req, res);
         if (!id) return;
-        if (std::optional<Asset> a = api.assets.get(*id)) return sendJson(res, 200, assetJson(*a));
+        if (std::optional<Asset> a = api.assets.get(*id))
+            return sendJson(res, 200, assetJson(*a, api.assets.model(*a)));
         sendProblem(res, 404, "no asset " + *id);
     });
     http.Delete(asset, [&api](Req req, Res res) { deleteAsset(api, req, res); });

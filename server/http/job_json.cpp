@@ -53,9 +53,15 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
         links["image_exr"] = self + "/image.exr";
     }
     if (!isTerminal(job.state)) links["cancel"] = self + "/cancel";
+    // A glTF job's model: what admission found in it and made of it.
+    const Json model =
+        job.scene.is_object() && job.scene.contains("gltf") && job.scene["gltf"].is_object()
+            ? job.scene["gltf"].value("summary", Json())
+            : Json();
     return Json{{"id", job.id},
                 {"state", toString(job.state)},
                 {"scene_name", job.sceneName.empty() ? Json(nullptr) : Json(job.sceneName)},
+                {"model", model},
                 {"created_at", timeJson(job.createdAt)},
                 {"started_at", timeJson(job.startedAt)},
                 {"finished_at", timeJson(job.finishedAt)},

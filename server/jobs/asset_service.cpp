@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "gltf/gltf_scene.h"
 #include "jobs/clock.h"
 #include "scene/mesh_file.h"
 #include "store/disk_space.h"
@@ -98,8 +99,30 @@ std::optional<Upload> AssetService::admit(std::string_view mediaType, const std:
     return std::nullopt;
 }
 
+Json AssetService::modelSummary(const std::string& bytes, const std::string& name) const {
+    const std::string path;
+    const MeshErrors errors{name, path};
+    GltfImportOptions options;
+    options.countOnly = true;
+    options.maxPixels = config_.limits.maxPixels;
+    return importGltf(loadGlbModel(bytes, errors), options, errors).summary;
+}
+
+Json AssetService::model(const Asset& asset) {
+    if (asset.format != nameOf(MeshFormat::Glb)) return nullptr;
+    std::shared_ptr<const std::string> bytes = store_.assetBytes(asset.id);
+    if (!bytes) return nullptr;
+    try {
+        return modelSummary(*bytes, asset.name.empty() ? "asset " + asset.id : asset.name);
+    } catch (const InputError& e) {
+        // Stored under other limits (a larger --max-pixels): it imported then, not now.
+        return Json{{"error", e.message()}};
+    }
+}
+
 std::optional<Upload> AssetService::load(MeshFormat format, const std::string& name,
-                                         const std::string& bytes, Asset& asset) const {
+                                         const std::string& bytes, Asset& asset,
+                                         Json& model) const {
     using Outcome = Upload::Outcome;
     // Load it with the renderer's own loader: what passes here renders.
     const int64_t maxTriangles = config_.limits.maxAssetTriangles;
@@ -120,6 +143,14 @@ std::optional<Upload> AssetService::load(MeshFormat format, const std::string& n
     }
     if (int64_t(mesh.triangles.size()) > maxTriangles)
         return tooMany("the mesh has " + std::to_string(mesh.triangles.size()) + " triangles");
+    if (format == MeshFormat::Glb) {
+        // A .glb is a scene too: it must import as one (materials, images, extensions).
+        try {
+            model = modelSummary(bytes, name.empty() ? "the upload" : name);
+        } catch (const InputError& e) {
+            return refused(Outcome::Invalid, e.message());
+        }
+    }
     const MeshBounds bounds = boundsOf(mesh);
     asset.format = nameOf(format);
     asset.name = name;
@@ -144,6 +175,7 @@ Upload AssetService::upload(std::string_view mediaType, const std::string& name,
     // The same bytes were loaded when they were first stored: take that asset as it is.
     const double now = unixNow();
     Asset asset;
+    Json model;
     asset.id = sha256Hex(bytes);
     const MeshFormat format = *meshFormatOfMediaType(mediaType);
     if (std::optional<Asset> stored = store_.getAsset(asset.id)) {
@@ -154,12 +186,14 @@ Upload AssetService::upload(std::string_view mediaType, const std::string& name,
                                                  " in the " + stored->format + " format, not as " +
                                                  nameOf(format));
         asset = *stored;
+        model = this->model(asset);
     } else {
         // SQLite writes a new asset twice (its write-ahead log, then the database file).
         if (std::optional<std::string> low = lowDiskSpace(
                 config_.dataDir, config_.storage.minFreeMiB, 2 * bytes.size(), "this upload"))
             return refused(Outcome::StorageFull, *low);
-        if (std::optional<Upload> refusal = load(format, name, bytes, asset)) return *refusal;
+        if (std::optional<Upload> refusal = load(format, name, bytes, asset, model))
+            return *refusal;
         asset.createdAt = now;
     }
     asset.lastUsedAt = now;
@@ -181,6 +215,7 @@ Upload AssetService::upload(std::string_view mediaType, const std::string& name,
     Upload u;
     u.outcome = stored == AssetInsert::Inserted ? Outcome::Created : Outcome::Existing;
     u.asset = asset;
+    u.model = std::move(model);
     return u;
 }
 

@@ -34,6 +34,7 @@ struct Upload {
     Outcome outcome = Outcome::Invalid;
     Asset asset;
     std::string detail;  ///< Why it was refused.
+    Json model;          ///< A .glb's modelSummary; null for an OBJ.
 };
 
 /// One of the --max-uploads places, held from before an upload's body is read until it is stored.
@@ -61,6 +62,10 @@ public:
     Upload upload(std::string_view mediaType, const std::string& name, const std::string& bytes);
 
     std::optional<Asset> get(const std::string& id) { return store_.getAsset(id); }
+    /// What a .glb asset holds as a scene (gltf/gltf_scene.h's summary: meshes, triangles,
+    /// materials, textures with their sizes, cameras, lights, extensions, warnings); null for an
+    /// OBJ. Reads the file from the store.
+    Json model(const Asset& asset);
     AssetPage list(int limit, int64_t before) { return store_.listAssets(limit, before); }
     /// Removes an asset no queued or running job uses, and gives its space back to the disk.
     AssetRemoval remove(const std::string& id);
@@ -71,7 +76,10 @@ private:
     /// Loads the file and fills `asset` from the mesh; the refusal when it cannot be loaded or
     /// has too many triangles.
     std::optional<Upload> load(MeshFormat format, const std::string& name, const std::string& bytes,
-                               Asset& asset) const;
+                               Asset& asset, Json& model) const;
+    /// The summary of a .glb imported as a scene, counting only; InputError when it does not
+    /// import.
+    Json modelSummary(const std::string& bytes, const std::string& name) const;
 
     const ServerConfig& config_;
     JobStore& store_;

@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "film/exact_sum.h"
+#include "gltf/scene_document.h"
 #include "render/memory_estimate.h"
 #include "render/resolution.h"
 #include "scene/json_reader.h"
@@ -119,11 +120,17 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
             return asset;
         };
     std::unique_ptr<Scene> scene;
+    Json model;
     try {
-        scene = loadScene(job.scene, options);
+        if (isModelDocument(job.scene) && job.scene["gltf"].is_object() &&
+            job.scene["gltf"].contains("summary"))
+            throw InputError("/gltf/summary", "is written by the service, not by a request");
+        scene = loadSceneDocument(job.scene, options, &model);
     } catch (const InputError& e) {
         throw InputError(prefixed("/scene", e.path()), e.message());
     }
+    // What the model holds and what was made of it (camera, environment, warnings), in the job.
+    if (!model.is_null()) job.scene["gltf"]["summary"] = model;
 
     // The scene's settings, checked where they are, then the request's over them.
     parseSettings(scene->settings, "/scene/settings");

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/error.h"
+#include "gltf/scene_document.h"
 #include "jobs/asset_service.h"
 #include "jobs/pass_recorder.h"
 #include "render/renderer.h"
@@ -114,7 +115,7 @@ WorkerPool::Outcome WorkerPool::renderLeased(const Job& job, LeaseKeeper& lease)
         options.assetsDir = config_.assetsDir;
         options.resolveMeshAsset = storedAssets(store_);
         options.textures = textures_;
-        std::unique_ptr<Scene> scene = loadScene(job.scene, options);
+        std::unique_ptr<Scene> scene = loadSceneDocument(job.scene, options);
         settings = parseSettings(job.settings);
         applyResolution(*scene, settings, options);
         // The memory check's pilot stops at a cancel and at the time limit, as passes do.

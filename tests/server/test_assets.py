@@ -46,7 +46,8 @@ def upload_ok(server, data, media=OBJ, name=None, status=201):
     assert asset["bytes"] == len(data)
     assert asset["format"] == ("obj" if media == OBJ else "glb")
     assert set(asset) == {"id", "format", "name", "bytes", "triangles", "vertices", "bounds",
-                          "created_at"}
+                          "created_at", "model"}
+    assert (asset["model"] is None) == (media == OBJ)
     return asset
 
 

@@ -1,0 +1,99 @@
+"""glTF files as scenes through the service (docs/gltf.md): a .glb written here is uploaded, its
+asset lists what it holds as a scene, a job renders it by {"scene": {"gltf": {"asset": id}}} with
+overrides, the job says which camera and environment it used, and bad files and overrides are
+4xx naming the glTF object or the JSON path."""
+
+import struct
+
+from conftest import assert_problem, run_to_end, submit_ok
+from test_assets import GLB, OBJ, TRIANGLE_OBJ, glb_bytes, glb_document, stored, upload
+
+# The quad file with a camera looking at it from +z and a point light in front of it.
+LIT_GLB = glb_bytes(glb_document(
+    nodes=[{"mesh": 0, "translation": [-1, 0, 0]},
+           {"mesh": 0, "translation": [2, 0, 0], "scale": [2, 2, 2]},
+           {"camera": 0, "name": "Front", "translation": [1, 1, 6]},
+           {"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [1, 1, 2]}],
+    scenes=[{"nodes": [0, 1, 2, 3]}],
+    cameras=[{"type": "perspective", "name": "Front",
+              "perspective": {"yfov": 0.8, "aspectRatio": 1.5, "znear": 0.1}}],
+    materials=[{"name": "Blue", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.3, 0.9, 1],
+                                                         "metallicFactor": 0}}],
+    meshes=[{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+    extensionsUsed=["KHR_lights_punctual", "KHR_materials_sheen"],
+    extensions={"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 2000,
+                                                    "name": "Bulb"}]}}))
+
+
+def gltf_job(asset_id, **scene):
+    return {"scene": {"gltf": {"asset": asset_id}, **scene}, "settings": {"spp": 2}}
+
+
+def test_a_glb_asset_lists_what_it_holds(server):
+    asset = stored(server, LIT_GLB, GLB)
+    model = server.get(f"/api/assets/{asset['id']}").json()["model"]
+    assert model["triangles"] == 4 and model["draws"] == 2
+    assert model["materials"] == ["Blue"]
+    assert model["cameras"] == [{"name": "Front", "camera": 0, "node": 2}]
+    assert model["lights"] == [{"name": "Bulb", "type": "point"}]
+    assert model["extensions"]["used"] == ["KHR_lights_punctual", "KHR_materials_sheen"]
+    assert model["warnings"] == ["the extension KHR_materials_sheen is not supported; ignored"]
+    assert stored(server, glb_bytes(), GLB)["model"]["cameras"] == []
+
+
+def test_renders_a_glb_through_its_camera_and_an_automatic_one(server):
+    asset = stored(server, LIT_GLB, GLB)
+    job = submit_ok(server, gltf_job(asset["id"], camera={"gltf": "Front", "width": 48}))
+    assert job["model"]["camera"] == {"gltf": 0, "name": "Front"}
+    assert job["model"]["environment"] is None  # the file has a light
+    end = run_to_end(server, job["id"])
+    assert end["state"] == "succeeded", end
+    png = server.get(f"/api/jobs/{job['id']}/image.png").content
+    assert png.startswith(b"\x89PNG")
+    assert struct.unpack(">II", png[16:24]) == (48, 32)  # the camera's aspect ratio, 1.5
+    # No camera and no light: the automatic camera and the white environment.
+    quads = stored(server, glb_bytes(), GLB)
+    job = submit_ok(server, gltf_job(quads["id"], camera={"auto": {"azimuth": 0}, "width": 40}))
+    assert job["model"]["camera"] == {"auto": {"azimuth": 0.0, "elevation": 20.0, "fov": 40.0}}
+    assert job["model"]["environment"] == {"color": [1.0, 1.0, 1.0]}
+    assert run_to_end(server, job["id"])["state"] == "succeeded"
+
+
+def test_overrides_change_materials_and_the_environment(server):
+    asset = stored(server, LIT_GLB, GLB)
+    job = submit_ok(server, gltf_job(asset["id"], camera={"gltf": 0, "width": 32},
+                                     materials={"Blue": {"roughness": 0.2}},
+                                     environment={"color": [0.2, 0.2, 0.2]}))
+    assert job["model"]["environment"] == {"color": [0.2, 0.2, 0.2]}
+    assert run_to_end(server, job["id"])["state"] == "succeeded"
+
+
+def test_bad_models_and_overrides_are_4xx_at_their_path(server):
+    asset = stored(server, LIT_GLB, GLB)
+    assert_problem(server.post("/api/jobs", json=gltf_job(asset["id"], camera={"gltf": "Back"})),
+                   422, detail="no perspective camera \"Back\" in the file; it has 0 \"Front\"",
+                   pointer="/scene/camera/gltf")
+    assert_problem(server.post("/api/jobs", json=gltf_job(asset["id"],
+                                                          materials={"Red": {"metallic": 1}})),
+                   422, detail="no material of that name in the file; its materials: Blue",
+                   pointer="/scene/materials/Red")
+    obj = stored(server, TRIANGLE_OBJ, OBJ)
+    assert_problem(server.post("/api/jobs", json=gltf_job(obj["id"])), 422,
+                   detail="is obj, not a glTF binary (.glb)", pointer="/scene/gltf/asset")
+    forged = gltf_job(asset["id"])
+    forged["scene"]["gltf"]["summary"] = {}
+    assert_problem(server.post("/api/jobs", json=forged), 422,
+                   detail="is written by the service", pointer="/scene/gltf/summary")
+    # A required extension the renderer does not read: refused at upload, naming it.
+    required = glb_bytes(glb_document(extensionsUsed=["KHR_draco_mesh_compression_x"],
+                                      extensionsRequired=["KHR_draco_mesh_compression_x"]))
+    r = upload(server, required, GLB)
+    assert_problem(r, 422, detail="requires the extension \"KHR_draco_mesh_compression_x\"")
+    # A material factor out of range, named.
+    bad = glb_bytes(glb_document(
+        materials=[{"name": "Hot", "pbrMetallicRoughness": {"metallicFactor": 2}}],
+        meshes=[{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}]))
+    assert_problem(upload(server, bad, GLB), 422,
+                   detail="material 0 (Hot): pbrMetallicRoughness: metallicFactor is 2, not in "
+                          "[0, 1]")
+    server.healthy()
