@@ -161,9 +161,9 @@ UseRule ruleOf(AccessorUse use) {
     }
 }
 
-// The accessor's elements once its type suits `use` and its bytes are in range.
-ElementBytes checkedElements(const tinygltf::Model& m, int index, AccessorUse use,
-                             const MeshErrors& errors) {
+// The accessor once its type suits `use`.
+const tinygltf::Accessor& checkedType(const tinygltf::Model& m, int index, AccessorUse use,
+                                      const MeshErrors& errors) {
     const tinygltf::Accessor& a = accessorAt(m, index, errors);
     const UseRule rule = ruleOf(use);
     const bool allowed =
@@ -173,7 +173,15 @@ ElementBytes checkedElements(const tinygltf::Model& m, int index, AccessorUse us
     if (use == AccessorUse::Indices && a.count % 3 != 0)
         errors.fail(at(index) + std::to_string(a.count) +
                     " indices are not whole triangles (a multiple of 3)");
-    return elementsOf(m, index, componentBytes(a.componentType) * size_t(rule.components), errors);
+    return a;
+}
+
+// The accessor's elements once its type suits `use` and its bytes are in range.
+ElementBytes checkedElements(const tinygltf::Model& m, int index, AccessorUse use,
+                             const MeshErrors& errors) {
+    const tinygltf::Accessor& a = checkedType(m, index, use, errors);
+    return elementsOf(m, index, componentBytes(a.componentType) * size_t(ruleOf(use).components),
+                      errors);
 }
 
 // Component c of an element as a float: FLOAT as stored, an integer as its value or, normalized,
@@ -234,6 +242,13 @@ std::vector<V> readVectors(const tinygltf::Model& m, int index, AccessorUse use,
 size_t checkAccessor(const tinygltf::Model& m, int index, AccessorUse use,
                      const MeshErrors& errors) {
     return checkedElements(m, index, use, errors).count;
+}
+
+size_t checkAccessorType(const tinygltf::Model& m, int index, AccessorUse use,
+                         const MeshErrors& errors) {
+    const tinygltf::Accessor& a = checkedType(m, index, use, errors);
+    if (a.count == 0) errors.fail(at(index) + "has no elements (count 0)");
+    return a.count;
 }
 
 std::vector<Vec3> readVec3s(const tinygltf::Model& m, int index, AccessorUse use,

@@ -27,6 +27,11 @@ enum class AccessorUse {
 size_t checkAccessor(const tinygltf::Model& model, int accessor, AccessorUse use,
                      const MeshErrors& errors);
 
+/// The same checks of type alone, for an accessor whose data lies elsewhere (a Draco-compressed
+/// primitive's accessors have no bufferView); returns its count.
+size_t checkAccessorType(const tinygltf::Model& model, int accessor, AccessorUse use,
+                         const MeshErrors& errors);
+
 /// A VEC3 attribute's values (Positions or Normals), integers converted as the accessor's
 /// `normalized` says (glTF 2.0, "Animations": c / 127 clamped at -1 for BYTE, c / 255 for
 /// UNSIGNED_BYTE, and so on), every coordinate finite. Fails naming the accessor ("accessor 3:

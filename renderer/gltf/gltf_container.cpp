@@ -93,6 +93,20 @@ Json checkGlbContainer(std::string_view bytes, const MeshErrors& errors) {
     return checkGltfJson(json, false, errors);
 }
 
+std::string withJsonChunk(std::string_view glb, std::string json) {
+    json.resize((json.size() + 3) / 4 * 4, ' ');
+    const uint32_t oldJson = u32At(glb, kHeaderBytes);
+    const std::string_view rest = glb.substr(kHeaderBytes + 8 + oldJson);
+    std::string out(glb.substr(0, kHeaderBytes));
+    const uint32_t length = uint32_t(kHeaderBytes + 8 + json.size() + rest.size());
+    std::memcpy(out.data() + 8, &length, 4);
+    const uint32_t chunk[2] = {uint32_t(json.size()), kJsonChunk};
+    out.append(reinterpret_cast<const char*>(chunk), sizeof chunk);
+    out += json;
+    out.append(rest);
+    return out;
+}
+
 Json checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors) {
     // Bounded, since tinygltf keeps each node, accessor or mesh in a few hundred bytes (3 bytes
     // of JSON, "{},", would make 450 of memory: a 64 MB file 10 GB), and parsed with a depth

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "gltf/gltf_accessors.h"
+#include "gltf/gltf_draco.h"
 #include "scene/mesh_file.h"
 
 namespace caustic {
@@ -83,13 +84,23 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
             const int position = attribute(prim, "POSITION");
             if (position < 0) errors.fail(at + "has no POSITION attribute");
             GltfDraw draw{instance, size_t(meshIndex), p, prim.material};
+            // A Draco primitive's accessors hold counts and types only; its data is decoded later.
+            const bool draco = dracoExtension(prim) != nullptr;
+            if (draco && mode != TINYGLTF_MODE_TRIANGLES)
+                errors.fail(at + "KHR_draco_mesh_compression holds triangles (mode 4), not mode " +
+                            std::to_string(mode));
+            auto count = [&](int accessor, AccessorUse use) {
+                return draco ? checkAccessorType(m, accessor, use, errors)
+                             : checkAccessor(m, accessor, use, errors);
+            };
             if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
                 errors.fail(at + "material " + std::to_string(prim.material) + " does not exist (" +
                             std::to_string(m.materials.size()) + " materials)");
-            draw.vertices = checkAccessor(m, position, AccessorUse::Positions, errors);
+            draw.vertices = count(position, AccessorUse::Positions);
+            if (draco && prim.indices < 0)
+                errors.fail(at + "KHR_draco_mesh_compression needs an indices accessor");
             const uint64_t corners =
-                prim.indices >= 0 ? checkAccessor(m, prim.indices, AccessorUse::Indices, errors)
-                                  : draw.vertices;
+                prim.indices >= 0 ? count(prim.indices, AccessorUse::Indices) : draw.vertices;
             if (mode == TINYGLTF_MODE_TRIANGLES && corners % 3 != 0)
                 errors.fail(at + std::to_string(corners) +
                             " unindexed vertices are not whole triangles (a multiple of 3)");
@@ -98,7 +109,7 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
             for (auto [accessor, use] :
                  {std::pair{normal, AccessorUse::Normals}, std::pair{uv, AccessorUse::Texcoords}}) {
                 if (accessor < 0) continue;
-                if (checkAccessor(m, accessor, use, errors) != draw.vertices)
+                if (count(accessor, use) != draw.vertices)
                     errors.fail(at + "accessor " + std::to_string(accessor) +
                                 " has a count other than POSITION's " +
                                 std::to_string(draw.vertices));
@@ -122,13 +133,28 @@ TriangleMesh readDraw(const tinygltf::Model& m, const GltfDraw& draw,
                       const MeshTransform& transform, bool texcoords, const MeshErrors& errors) {
     const tinygltf::Primitive& prim = m.meshes[draw.mesh].primitives[draw.primitive];
     const int position = attribute(prim, "POSITION");
-    std::vector<Vec3> points = readVec3s(m, position, AccessorUse::Positions, errors);
+    std::vector<Vec3> points, normals;
+    std::vector<Vec2> uvs;
     std::vector<uint32_t> sequence;
-    if (prim.indices >= 0) {
-        sequence = readIndices(m, prim.indices, points.size(), errors);
+    if (dracoExtension(prim)) {
+        DracoPrimitive d = decodeDraco(m, prim, texcoords && draw.texcoords,
+                                       primitiveName(m, draw.mesh, draw.primitive) + ": ", errors);
+        points = std::move(d.positions);
+        normals = std::move(d.normals);
+        uvs = std::move(d.texcoords);
+        sequence = std::move(d.indices);
     } else {
-        sequence.resize(points.size());
-        for (uint32_t v = 0; v < points.size(); ++v) sequence[v] = v;
+        points = readVec3s(m, position, AccessorUse::Positions, errors);
+        if (draw.normals)
+            normals = readVec3s(m, attribute(prim, "NORMAL"), AccessorUse::Normals, errors);
+        if (texcoords && draw.texcoords)
+            uvs = readTexcoords(m, attribute(prim, "TEXCOORD_0"), errors);
+        if (prim.indices >= 0) {
+            sequence = readIndices(m, prim.indices, points.size(), errors);
+        } else {
+            sequence.resize(points.size());
+            for (uint32_t v = 0; v < points.size(); ++v) sequence[v] = v;
+        }
     }
     TriangleMesh mesh;
     const glm::dmat4& world = draw.instance.world;
@@ -146,10 +172,10 @@ TriangleMesh readDraw(const tinygltf::Model& m, const GltfDraw& draw,
                 " is not finite once transformed");
         mesh.positions.push_back(p);
     }
-    if (draw.normals) {
+    if (!normals.empty()) {
         // Normals transform by the inverse transpose; a singular transform flattens them.
         const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
-        mesh.normals = readVec3s(m, attribute(prim, "NORMAL"), AccessorUse::Normals, errors);
+        mesh.normals = std::move(normals);
         for (Vec3& n : mesh.normals) {
             glm::dvec3 w = normalMatrix * glm::dvec3(n);
             const double length = glm::length(w);
@@ -157,8 +183,7 @@ TriangleMesh readDraw(const tinygltf::Model& m, const GltfDraw& draw,
                                                       : Vec3(0.0f);
         }
     }
-    if (texcoords && draw.texcoords)
-        mesh.texcoords = readTexcoords(m, attribute(prim, "TEXCOORD_0"), errors);
+    mesh.texcoords = std::move(uvs);
     mesh.triangles = trianglesOf(sequence, modeOf(prim));
     // A mirroring transform turns counter-clockwise faces clockwise; swapping two corners keeps
     // the front side where the file meant it (glTF 2.0, "Meshes": a negative determinant of the

@@ -46,6 +46,40 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
     return true;
 }
 
+// tinygltf (built without Draco, as Debian's is) refuses a primitive whose indices accessor has
+// no bufferView, which KHR_draco_mesh_compression's accessors lack: such an accessor is given the
+// extension's bufferView, which is in range and never read as an accessor (gltf_draco.h decodes
+// it). Returns whether the document changed.
+bool viewsForDracoIndices(Json& doc) {
+    bool changed = false;
+    auto meshes = doc.find("meshes");
+    auto accessors = doc.find("accessors");
+    if (meshes == doc.end() || !meshes->is_array() || accessors == doc.end() ||
+        !accessors->is_array())
+        return false;
+    for (Json& mesh : *meshes) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
+            continue;
+        for (Json& prim : mesh["primitives"]) {
+            if (!prim.is_object()) continue;
+            const Json* draco = nullptr;
+            if (auto e = prim.find("extensions"); e != prim.end() && e->is_object())
+                if (auto d = e->find("KHR_draco_mesh_compression"); d != e->end()) draco = &*d;
+            auto indices = prim.find("indices");
+            if (!draco || !draco->is_object() || !draco->contains("bufferView") ||
+                indices == prim.end() || !indices->is_number_unsigned() ||
+                indices->get<size_t>() >= accessors->size())
+                continue;
+            Json& accessor = (*accessors)[indices->get<size_t>()];
+            if (accessor.is_object() && !accessor.contains("bufferView")) {
+                accessor["bufferView"] = (*draco)["bufferView"];
+                changed = true;
+            }
+        }
+    }
+    return changed;
+}
+
 tinygltf::Model load(std::string_view bytes, bool binary, const GltfFileReader* files,
                      const MeshErrors& errors) {
     tinygltf::TinyGLTF loader;
@@ -80,6 +114,9 @@ tinygltf::Model load(std::string_view bytes, bool binary, const GltfFileReader* 
 
 GltfFile loadGlbModel(std::string_view bytes, const MeshErrors& errors) {
     Json doc = checkGlbContainer(bytes, errors);
+    Json patched = doc;
+    if (viewsForDracoIndices(patched))
+        return {load(withJsonChunk(bytes, patched.dump()), true, nullptr, errors), std::move(doc)};
     return {load(bytes, true, nullptr, errors), std::move(doc)};
 }
 
@@ -87,6 +124,9 @@ GltfFile loadGltfModel(std::string_view json, const GltfFileReader& files,
                        const MeshErrors& errors) {
     if (json.empty()) errors.fail("the file is empty");
     Json doc = checkGltfJson(json, true, errors);
+    Json patched = doc;
+    if (viewsForDracoIndices(patched))
+        return {load(patched.dump(), false, &files, errors), std::move(doc)};
     return {load(json, false, &files, errors), std::move(doc)};
 }
 

@@ -31,6 +31,9 @@ Json checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors);
 /// reads it; returns the document.
 Json checkGlbContainer(std::string_view bytes, const MeshErrors& errors);
 
+/// A checked .glb with its JSON chunk replaced by `json` (padded), the other chunks kept.
+std::string withJsonChunk(std::string_view glb, std::string json);
+
 /// A glTF file read: tinygltf's model (nodes, meshes, accessors, buffers, images) and the JSON
 /// document it came from (materials, cameras, lights and extensions are read from it).
 struct GltfFile {
