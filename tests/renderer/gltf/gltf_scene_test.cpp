@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <draco/compression/encode.h>
+#include <draco/mesh/triangle_soup_mesh_builder.h>
+
 #include "core/error.h"
 #include "film/image_io.h"
 #include "gltf/gltf_scene.h"
@@ -149,6 +152,61 @@ TEST(GltfScene, QuantizedPositionsAndNormalizedTexcoords) {
     EXPECT_NEAR(mesh.positions[2].y, 1.0f, 1e-6f);
     EXPECT_EQ(mesh.texcoords[0], Vec2(0, 1));
     EXPECT_EQ(mesh.texcoords[2], Vec2(1, 0));
+}
+
+// The square, its two triangles compressed by Draco's encoder (KHR_draco_mesh_compression): the
+// accessors keep counts and types, the extension's bufferView holds the data.
+GlbModel dracoSquare() {
+    draco::TriangleSoupMeshBuilder builder;
+    builder.Start(2);
+    const int position =
+        builder.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
+    const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    builder.SetAttributeValuesForFace(position, draco::FaceIndex(0), p[0], p[1], p[2]);
+    builder.SetAttributeValuesForFace(position, draco::FaceIndex(1), p[0], p[2], p[3]);
+    std::unique_ptr<draco::Mesh> mesh = builder.Finalize();
+    draco::Encoder encoder;
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, 14);
+    draco::EncoderBuffer buffer;
+    EXPECT_TRUE(encoder.EncodeMeshToBuffer(*mesh, &buffer).ok());
+    GlbModel m = squareGlb();
+    m.bin.assign(buffer.data(), buffer.size());
+    m.gltf["bufferViews"] = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", buffer.size()}}};
+    m.gltf["buffers"][0]["byteLength"] = m.bin.size();
+    m.gltf["accessors"][0].erase("bufferView");
+    m.gltf["accessors"][0]["count"] = mesh->num_points();
+    m.gltf["accessors"][1].erase("bufferView");
+    m.gltf["meshes"][0]["primitives"][0]["extensions"] = {
+        {"KHR_draco_mesh_compression",
+         {{"bufferView", 0},
+          {"attributes",
+           {{"POSITION", mesh->GetNamedAttributeId(draco::GeometryAttribute::POSITION)}}}}}};
+    m.gltf["extensionsUsed"] = m.gltf["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    return m;
+}
+
+TEST(GltfScene, DracoCompressedMeshes) {
+    GltfScene g = imported(dracoSquare());
+    const TriangleMesh& mesh = g.embedded->meshes[1].mesh;
+    ASSERT_EQ(mesh.triangles.size(), 2u);
+    // The same square as the uncompressed file, within the 14-bit quantization.
+    float area = 0;
+    for (const glm::uvec3& t : mesh.triangles)
+        area += 0.5f * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
+                                              mesh.positions[t.z] - mesh.positions[t.x]));
+    EXPECT_NEAR(area, 4.0f, 1e-3f);  // node 1 scales by 2
+    for (const Vec3& p : mesh.positions) EXPECT_NEAR(p.z, -5.0f, 1e-5f);
+    // Garbage in the bufferView is an error naming the primitive.
+    GlbModel broken = dracoSquare();
+    for (size_t i = 8; i < broken.bin.size(); ++i) broken.bin[i] = char(0xA5);
+    try {
+        imported(broken);
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(e.message().find("mesh 0 primitive 0: KHR_draco_mesh_compression: "),
+                  std::string::npos)
+            << e.message();
+    }
 }
 
 TEST(GltfScene, TexturesWithTheirTransform) {
@@ -295,7 +353,8 @@ TEST(GltfScene, ExtensionsRequiredAndUsed) {
     m.gltf["extensionsRequired"] = {"KHR_materials_sheen"};
     expectImportError(m,
                       "the file requires the extension \"KHR_materials_sheen\", which Caustic does "
-                      "not support (it reads KHR_lights_punctual, KHR_materials_emissive_strength, "
+                      "not support (it reads KHR_draco_mesh_compression, KHR_lights_punctual, "
+                      "KHR_materials_emissive_strength, "
                       "KHR_materials_ior, KHR_materials_transmission, KHR_materials_volume, "
                       "KHR_mesh_quantization, KHR_texture_transform)");
 }
