@@ -20,11 +20,9 @@ public:
     /// E pi R^2: the flux through the scene's bounding disk.
     Color power() const override { return irradiance_ * (kPi * radius_ * radius_); }
     bool isDelta() const override { return true; }
-    /// The luminance of the irradiance at ref: E |cos| (E for a point in space).
+    /// The luminance of the irradiance at ref: E |cos|, the cosine floored (importanceCosine).
     float importance(const LightSampleContext& ref) const override {
-        const float cosine =
-            glm::dot(ref.n, ref.n) > 0.0f ? std::abs(glm::dot(direction_, ref.n)) : 1.0f;
-        return luminance(irradiance_) * cosine;
+        return luminance(irradiance_) * importanceCosine(direction_, ref);
     }
 
 private:

@@ -1,6 +1,7 @@
 // Light sources: point lights, and area lights made from emissive primitives.
 #pragma once
 
+#include <algorithm>
 #include <optional>
 
 #include "core/math.h"
@@ -38,15 +39,24 @@ struct LightLeSample {
     Color power;
 };
 
-/// |cos theta| / d^2 of a light at `position` seen from ref (|cos| 1 for a point in space): how a
-/// point light's irradiance at ref scales.
+/// The cosine a light's importance at ref weighs unit direction w by: |cos| to the geometric
+/// normal, but never below kMinImportanceCosine (1 for a point in space). A shading normal (smooth
+/// or normal-mapped surfaces) or a glossy lobe may take light that grazes the geometric surface:
+/// a light chosen with a probability near zero there would return a sample of near-infinite
+/// weight, so the floor bounds that weight at 1 / kMinImportanceCosine of its fair share.
+inline constexpr float kMinImportanceCosine = 0.1f;
+inline float importanceCosine(const Vec3& w, const LightSampleContext& ref) {
+    if (!(glm::dot(ref.n, ref.n) > 0.0f)) return 1.0f;
+    return std::max(std::abs(glm::dot(w, ref.n)), kMinImportanceCosine);
+}
+
+/// importanceCosine / d^2 of a light at `position` seen from ref: how a point light's irradiance
+/// at ref scales, for choosing among lights.
 inline float pointLightFactor(const Vec3& position, const LightSampleContext& ref) {
     const Vec3 d = position - ref.p;
     const float dist2 = glm::dot(d, d);
     if (!(dist2 > 0.0f)) return 0.0f;
-    const float cosine =
-        glm::dot(ref.n, ref.n) > 0.0f ? std::abs(glm::dot(d, ref.n)) / std::sqrt(dist2) : 1.0f;
-    return cosine / dist2;
+    return importanceCosine(d / std::sqrt(dist2), ref) / dist2;
 }
 
 class Light {

@@ -144,6 +144,11 @@ std::unique_ptr<Material> readMetallicRoughness(JsonObject& o, const Color& emis
                                                        in.multipleScattering, emission, in.ior);
     const float weight = (1.0f - in.metallic) * transmission;
     if (!(weight > 0.0f)) return surface;
+    // Smooth glass (glTF's usual glass: transmission 1, roughness 0) is a smooth interface, not a
+    // microfacet one of the smallest roughness: one of alpha 0.0009 would take point lights by
+    // light sampling through a lobe a million times its mean, a few enormous samples in millions.
+    if (weight >= 1.0f && in.roughness < MetallicRoughness::kMinRoughness)
+        return std::make_unique<Dielectric>(in.ior, FresnelModel::Schlick, in.baseColor, emission);
     // KHR_materials_transmission: the dielectric's diffuse gives way to a rough refraction
     // tinted by the base colour, its Fresnel term Schlick's as the specification's.
     auto glass =

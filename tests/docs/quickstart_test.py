@@ -2,16 +2,18 @@
 """The README's quick start runs as written.
 
 README.md marks its quick-start blocks with an HTML comment on the line before each fence
-(`<!-- quickstart: setup -->`, `cli`, `http`). This runs them in order against this checkout (in
-CI, a fresh clone):
+(`<!-- quickstart: setup -->`, `cli`, `http`, `gltf_cli`, `gltf_http`). This runs them in order
+against this checkout (in CI, a fresh clone):
   setup  its first command (`bash scripts/run.sh`: install, build, serve) in the background, until
          the service prints its URL; the second (`bash scripts/test.sh`) is what CI is running now,
          and .ci/run must be that command;
   cli    in a scratch folder, then checks the PNG it wrote;
-  http   the same, against the service; then the page (GET /) answers.
-Three substitutions keep a test from touching the user's things: `./build/` is this build folder,
-port 8080 a free port, and run.sh gets `--data` in the scratch folder (its extra arguments go to
-`caustic serve`, as the README says). Each step is bounded in time.
+  http   the same, against the service; then the page (GET /) answers;
+  gltf_cli and gltf_http  as cli and http, rendering the example glTF model.
+Four substitutions keep a test from touching the user's things: `./build/` is this build folder,
+`assets/models/` the checkout's, port 8080 a free port, and run.sh gets `--data` in the scratch
+folder (its extra arguments go to `caustic serve`, as the README says). Each step is bounded in
+time.
 
 usage: quickstart_test.py SOURCE_DIR BUILD_DIR
 """
@@ -49,7 +51,9 @@ def free_port():
 
 
 def run_block(name, lines, cwd, build, port, timeout):
-    script = "\n".join(lines).replace("./build/", f"{build}/").replace(":8080", f":{port}")
+    models = Path(__file__).resolve().parents[2] / "assets" / "models"
+    script = ("\n".join(lines).replace("./build/", f"{build}/").replace(":8080", f":{port}")
+              .replace("@assets/models/", f"@{models}/").replace(" assets/models/", f" {models}/"))
     print(f"--- quickstart {name}:\n{script}", flush=True)
     r = subprocess.run(["bash", "-euo", "pipefail", "-c", script], cwd=cwd, timeout=timeout,
                        stdin=subprocess.DEVNULL, capture_output=True, text=True)
@@ -61,10 +65,20 @@ def is_png(path):
     return path.is_file() and path.read_bytes()[:8] == PNG_SIGNATURE
 
 
+def run_png_block(name, lines, scratch, build, port):
+    """Runs the block in `scratch`, which must then hold PNG images only; removes them."""
+    run_block(name, lines, scratch, build, port, timeout=300)
+    pngs = [p for p in scratch.glob("*.png")]
+    assert pngs and all(is_png(p) for p in pngs), f"the {name} block wrote {pngs}"
+    for p in pngs:
+        p.unlink()
+
+
 def main():
     source, build = Path(sys.argv[1]).resolve(), Path(sys.argv[2]).resolve()
     found = blocks((source / "README.md").read_text(encoding="utf-8"))
-    assert set(found) == {"setup", "cli", "http"}, f"quick-start blocks found: {sorted(found)}"
+    assert set(found) == {"setup", "cli", "http", "gltf_cli", "gltf_http"}, \
+        f"quick-start blocks found: {sorted(found)}"
     setup = [line.split("#")[0].strip() for line in found["setup"]]
     assert setup == ["bash scripts/run.sh", "bash scripts/test.sh"], setup
     assert "scripts/test.sh" in (source / ".ci" / "run").read_text(), ".ci/run runs scripts/test.sh"
@@ -72,11 +86,8 @@ def main():
     port = free_port()
     with tempfile.TemporaryDirectory(prefix="caustic-quickstart-") as scratch:
         scratch = Path(scratch)
-        run_block("cli", found["cli"], scratch, build, port, timeout=300)
-        pngs = [p for p in scratch.glob("*.png")]
-        assert pngs and all(is_png(p) for p in pngs), f"the cli block wrote {pngs}"
-        for p in pngs:
-            p.unlink()
+        for name in ("cli", "gltf_cli"):
+            run_png_block(name, found[name], scratch, build, port)
 
         env = dict(os.environ, CAUSTIC_BUILD_DIR=str(build))
         server = subprocess.Popen(
@@ -95,9 +106,8 @@ def main():
                     break
                 assert time.monotonic() < deadline, "run.sh printed no URL in 600 s"
             assert url == f"http://127.0.0.1:{port}/", f"run.sh printed {url}"
-            run_block("http", found["http"], scratch, build, port, timeout=300)
-            pngs = [p for p in scratch.glob("*.png")]
-            assert pngs and all(is_png(p) for p in pngs), f"the http block wrote {pngs}"
+            for name in ("http", "gltf_http"):
+                run_png_block(name, found[name], scratch, build, port)
             with urllib.request.urlopen(url, timeout=10) as page:
                 assert page.status == 200 and b"<title>" in page.read()
         finally:
@@ -107,7 +117,7 @@ def main():
             except subprocess.TimeoutExpired:
                 os.killpg(server.pid, signal.SIGKILL)
                 server.wait()
-    print("quickstart: the setup, cli and http blocks ran as written")
+    print("quickstart: the setup, cli, http, gltf_cli and gltf_http blocks ran as written")
 
 
 if __name__ == "__main__":
