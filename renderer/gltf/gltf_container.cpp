@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "gltf/gltf_meshopt.h"
 #include "gltf/gltf_model.h"
 #include "scene/json_reader.h"
 #include "scene/mesh_file.h"
@@ -93,6 +94,13 @@ Json checkGlbContainer(std::string_view bytes, const MeshErrors& errors) {
     return checkGltfJson(json, false, errors);
 }
 
+std::string_view glbBinChunk(std::string_view glb) {
+    const uint32_t json = u32At(glb, kHeaderBytes);
+    const size_t bin = kHeaderBytes + 8 + size_t(json);
+    if (glb.size() < bin + 8 || u32At(glb, bin + 4) != kBinChunk) return {};
+    return glb.substr(bin + 8, u32At(glb, bin));
+}
+
 std::string withJsonChunk(std::string_view glb, std::string json) {
     json.resize((json.size() + 3) / 4 * 4, ' ');
     const uint32_t oldJson = u32At(glb, kHeaderBytes);
@@ -127,9 +135,13 @@ Json checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors) {
     if (uris) return std::move(*doc);
     refuseUris(*doc, "buffers", "buffer", errors);
     refuseUris(*doc, "images", "image", errors);
-    // Only the first buffer may stand for the BIN chunk ("GLB-stored Buffer").
-    if (auto buffers = doc->find("buffers"); buffers != doc->end() && buffers->size() > 1)
-        errors.fail("buffer 1: a .glb without URIs holds one buffer, its BIN chunk");
+    // Only the first buffer may stand for the BIN chunk ("GLB-stored Buffer"); others may be
+    // EXT_meshopt_compression's fallbacks, which hold no data.
+    if (auto buffers = doc->find("buffers"); buffers != doc->end())
+        for (size_t b = 1; b < buffers->size(); ++b)
+            if (!isMeshoptFallback((*buffers)[b]))
+                errors.fail("buffer " + std::to_string(b) +
+                            ": a .glb without URIs holds one buffer, its BIN chunk");
     return std::move(*doc);
 }
 

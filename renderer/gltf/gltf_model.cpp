@@ -1,8 +1,11 @@
 #include "gltf/gltf_model.h"
 
+#include "gltf/gltf_meshopt.h"
+
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,23 +15,34 @@ namespace caustic {
 namespace {
 
 // tinygltf's file callbacks. A .glb's refuse everything (checkGltfJson has refused every URI
-// already, so these are a second lock on the same door); a .gltf's go through its reader.
+// already, so these are a second lock on the same door); a .gltf's go through its reader, each
+// file read once (tinygltf asks whether a file exists, then reads it).
+struct CachedFiles {
+    const GltfFileReader* reader = nullptr;
+    std::map<std::string, std::optional<std::string>> files;
+    const std::optional<std::string>& get(const std::string& name) {
+        auto it = files.find(name);
+        if (it == files.end()) it = files.emplace(name, (*reader)(name)).first;
+        return it->second;
+    }
+};
 bool fileExists(const std::string& name, void* user) {
-    const auto* files = static_cast<const GltfFileReader*>(user);
-    return files && (*files)(name).has_value();
+    auto* files = static_cast<CachedFiles*>(user);
+    return files && files->reader && files->get(name).has_value();
 }
 std::string noExpansion(const std::string& file, void*) {
     return file;
 }
 bool readFile(std::vector<unsigned char>* out, std::string* err, const std::string& name,
               void* user) {
-    const auto* files = static_cast<const GltfFileReader*>(user);
-    std::optional<std::string> bytes = files ? (*files)(name) : std::nullopt;
-    if (!bytes) {
+    auto* files = static_cast<CachedFiles*>(user);
+    if (!files || !files->reader || !files->get(name)) {
         if (err) *err += "no file \"" + name.substr(0, 120) + "\" in the model\n";
         return false;
     }
-    out->assign(bytes->begin(), bytes->end());
+    const std::string& bytes = *files->get(name);
+    out->assign(bytes.begin(), bytes.end());
+    files->files.erase(name);  // read once: tinygltf keeps its copy
     return true;
 }
 bool noFileWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
@@ -83,8 +97,8 @@ bool viewsForDracoIndices(Json& doc) {
 tinygltf::Model load(std::string_view bytes, bool binary, const GltfFileReader* files,
                      const MeshErrors& errors) {
     tinygltf::TinyGLTF loader;
-    loader.SetFsCallbacks(
-        {&fileExists, &noExpansion, &readFile, &noFileWrite, const_cast<GltfFileReader*>(files)});
+    CachedFiles cached{files, {}};
+    loader.SetFsCallbacks({&fileExists, &noExpansion, &readFile, &noFileWrite, &cached});
     loader.SetImageLoader(&keepEncodedImage, nullptr);
     tinygltf::Model model;
     std::string err, warn;
@@ -110,24 +124,64 @@ tinygltf::Model load(std::string_view bytes, bool binary, const GltfFileReader* 
     return model;
 }
 
+// What tinygltf cannot read as the file has it, made readable: Draco's indices accessors given a
+// view, meshopt-compressed views decoded into `decoded`. Returns whether `doc` changed.
+bool prepareForTinygltf(Json& doc, const std::function<std::string_view(size_t)>& buffer,
+                        std::string& decoded, const MeshErrors& errors) {
+    const bool draco = viewsForDracoIndices(doc);
+    const bool meshopt = decodeMeshopt(doc, buffer, decoded, errors);
+    return draco || meshopt;
+}
+
+// The model's files, and the meshopt-decoded buffer under its reserved name.
+GltfFileReader withDecoded(const GltfFileReader* files, const std::string& decoded) {
+    return [files, &decoded](const std::string& uri) -> std::optional<std::string> {
+        if (uri == kMeshoptDecodedUri) return decoded;
+        return files ? (*files)(uri) : std::nullopt;
+    };
+}
+
 }  // namespace
 
 GltfFile loadGlbModel(std::string_view bytes, const MeshErrors& errors) {
     Json doc = checkGlbContainer(bytes, errors);
     Json patched = doc;
-    if (viewsForDracoIndices(patched))
-        return {load(withJsonChunk(bytes, patched.dump()), true, nullptr, errors), std::move(doc)};
-    return {load(bytes, true, nullptr, errors), std::move(doc)};
+    std::string decoded;
+    const std::string_view bin = glbBinChunk(bytes);
+    const auto buffer = [&](size_t b) { return b == 0 ? bin : std::string_view(); };
+    if (!prepareForTinygltf(patched, buffer, decoded, errors))
+        return {load(bytes, true, nullptr, errors), std::move(doc)};
+    const GltfFileReader reader = withDecoded(nullptr, decoded);
+    return {load(withJsonChunk(bytes, patched.dump()), true, &reader, errors), std::move(doc)};
 }
 
 GltfFile loadGltfModel(std::string_view json, const GltfFileReader& files,
                        const MeshErrors& errors) {
     if (json.empty()) errors.fail("the file is empty");
     Json doc = checkGltfJson(json, true, errors);
+    for (const char* kind : {"buffers", "images"})
+        if (auto list = doc.find(kind); list != doc.end() && list->is_array())
+            for (const Json& o : *list)
+                if (o.is_object() && o.value("uri", Json()) == kMeshoptDecodedUri)
+                    errors.fail(std::string(kind) + ": the uri \"" + kMeshoptDecodedUri +
+                                "\" is reserved");
     Json patched = doc;
-    if (viewsForDracoIndices(patched))
-        return {load(patched.dump(), false, &files, errors), std::move(doc)};
-    return {load(json, false, &files, errors), std::move(doc)};
+    std::string decoded;
+    std::vector<std::optional<std::string>> sources;
+    const auto buffer = [&](size_t b) -> std::string_view {
+        sources.resize(std::max(sources.size(), b + 1));
+        if (!sources[b]) {
+            const Json& o = patched.at("buffers").at(b);
+            const std::string uri = o.is_object() ? o.value("uri", "") : "";
+            sources[b] = uri.empty() ? std::string() : files(uri).value_or(std::string());
+        }
+        return *sources[b];
+    };
+    if (!prepareForTinygltf(patched, buffer, decoded, errors))
+        return {load(json, false, &files, errors), std::move(doc)};
+    sources.clear();
+    const GltfFileReader reader = withDecoded(&files, decoded);
+    return {load(patched.dump(), false, &reader, errors), std::move(doc)};
 }
 
 bool isGltfFileName(const std::string& name) {

@@ -31,6 +31,8 @@ Json checkGltfJson(std::string_view json, bool uris, const MeshErrors& errors);
 /// reads it; returns the document.
 Json checkGlbContainer(std::string_view bytes, const MeshErrors& errors);
 
+/// A checked .glb's BIN chunk (empty when it has none).
+std::string_view glbBinChunk(std::string_view glb);
 /// A checked .glb with its JSON chunk replaced by `json` (padded), the other chunks kept.
 std::string withJsonChunk(std::string_view glb, std::string json);
 

@@ -302,10 +302,11 @@ private:
 
 const std::vector<std::string>& supportedGltfExtensions() {
     static const std::vector<std::string> kSupported{
-        "KHR_draco_mesh_compression",      "KHR_lights_punctual",
-        "KHR_materials_emissive_strength", "KHR_materials_ior",
-        "KHR_materials_transmission",      "KHR_materials_volume",
-        "KHR_mesh_quantization",           "KHR_texture_transform"};
+        "EXT_meshopt_compression", "KHR_draco_mesh_compression",
+        "KHR_lights_punctual",     "KHR_materials_emissive_strength",
+        "KHR_materials_ior",       "KHR_materials_transmission",
+        "KHR_materials_volume",    "KHR_mesh_quantization",
+        "KHR_texture_transform"};
     return kSupported;
 }
 

@@ -1,7 +1,10 @@
 #include "gltf/scene_document.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 #include "gltf/gltf_model.h"
+#include "gltf/gltf_zip.h"
 #include "scene/mesh_file.h"
 #include "scene/mesh_loader.h"
 
@@ -26,6 +29,8 @@ std::unique_ptr<Scene> loadSceneDocument(const Json& doc, SceneOptions options, 
     GltfImportOptions importOptions;
     importOptions.maxPixels = options.maxPixels;
     importOptions.countOnly = options.countMeshesOnly;
+    // A size the service takes: the render's settings may set another.
+    importOptions.width = std::min(importOptions.width, options.maxResolution);
     const std::string at = asset ? "/gltf/asset" : "/gltf/file";
     const std::string name = source.string(asset ? "asset" : "file");
     std::string label = asset ? "asset " + name : name;
@@ -35,10 +40,10 @@ std::unique_ptr<Scene> loadSceneDocument(const Json& doc, SceneOptions options, 
         if (!options.resolveMeshAsset)
             throw InputError(at, "this renderer has no asset store; use \"file\"");
         const MeshAsset stored = options.resolveMeshAsset(name, at, true);
-        if (stored.format != MeshFormat::Glb || !stored.bytes)
+        if (!isGltfFormat(stored.format) || !stored.bytes)
             throw InputError(at, "asset " + name + " is " + nameOf(stored.format) +
-                                     ", not a glTF binary (.glb)");
-        model = loadGlbModel(*stored.bytes, errors);
+                                     ", not a glTF model (.glb, or .zip of a .gltf)");
+        model = loadGltfUpload(*stored.bytes, stored.format, errors);
     } else {
         if (!isGltfFileName(name)) throw InputError(at, "must name a .glb or .gltf file");
         model = loadGltfPath(resolveAsset(options.assetsDir, name, at), errors);

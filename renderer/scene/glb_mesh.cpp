@@ -1,11 +1,12 @@
-// A .glb as one mesh (mesh_file_parts.h): the container checked, tinygltf reading it with every
-// way to open a file refused, then the draws of the default scene's nodes joined.
+// A .glb or a .zip of a .gltf as one mesh (mesh_file_parts.h): read by gltf/gltf_model.h or
+// gltf/gltf_zip.h, then the draws of the default scene's nodes joined.
 #include <string>
 #include <vector>
 
 #include "gltf/gltf_meshes.h"
 #include "gltf/gltf_model.h"
 #include "gltf/gltf_nodes.h"
+#include "gltf/gltf_zip.h"
 #include "scene/mesh_file.h"
 #include "scene/mesh_file_parts.h"
 
@@ -30,9 +31,9 @@ void append(TriangleMesh& mesh, TriangleMesh part) {
 
 }  // namespace
 
-TriangleMesh parseGlb(std::string_view bytes, const MeshTransform& transform, bool texcoords,
-                      const MeshErrors& errors) {
-    const tinygltf::Model model = loadGlbModel(bytes, errors).model;
+TriangleMesh parseGltf(std::string_view bytes, MeshFormat format, const MeshTransform& transform,
+                       bool texcoords, const MeshErrors& errors) {
+    const tinygltf::Model model = loadGltfUpload(bytes, format, errors).model;
     GltfDraws draws = gltfDraws(model, walkNodes(model, errors), errors);
     TriangleMesh mesh;
     for (const GltfDraw& draw : draws.draws)

@@ -16,10 +16,12 @@ struct FormatRow {
     const char* name;
     const char* mediaType;
 };
-// The IANA media types: model/obj (2020) and model/gltf-binary (glTF 2.0 spec, appendix).
+// The IANA media types: model/obj (2020), model/gltf-binary (glTF 2.0 spec, appendix) and
+// application/zip.
 constexpr FormatRow kFormats[] = {
     {.format = MeshFormat::Obj, .name = "obj", .mediaType = "model/obj"},
     {.format = MeshFormat::Glb, .name = "glb", .mediaType = "model/gltf-binary"},
+    {.format = MeshFormat::GltfZip, .name = "zip", .mediaType = "application/zip"},
 };
 
 const FormatRow& rowOf(MeshFormat format) {
@@ -85,7 +87,7 @@ TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
                             const MeshTransform& transform, const std::string& name,
                             const std::string& path, uint64_t maxTriangles, bool texcoords) {
     MeshErrors errors{name, path};
-    if (format == MeshFormat::Glb) return parseGlb(bytes, transform, texcoords, errors);
+    if (isGltfFormat(format)) return parseGltf(bytes, format, transform, texcoords, errors);
     // The line pass names the line at fault; then the loader every scene file goes through.
     checkObjLines(bytes, errors, maxTriangles);
     ViewBuffer buffer(bytes);

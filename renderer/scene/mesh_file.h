@@ -13,16 +13,23 @@
 
 namespace caustic {
 
-enum class MeshFormat { Obj, Glb };
+/// An OBJ, a glTF binary, or a .zip holding a .gltf with its buffers and images.
+enum class MeshFormat { Obj, Glb, GltfZip };
 
-/// "model/obj" -> Obj, "model/gltf-binary" -> Glb (media-type parameters such as "; charset=utf-8"
-/// and case ignored); nothing for any other type.
+/// "model/obj" -> Obj, "model/gltf-binary" -> Glb, "application/zip" -> GltfZip (media-type
+/// parameters such as "; charset=utf-8" and case ignored); nothing for any other type.
 std::optional<MeshFormat> meshFormatOfMediaType(std::string_view mediaType);
-const char* mediaTypeOf(MeshFormat format);  ///< "model/obj", "model/gltf-binary"
-const char* nameOf(MeshFormat format);       ///< "obj", "glb"
-std::optional<MeshFormat> meshFormatNamed(std::string_view name);  ///< "obj", "glb"
+const char* mediaTypeOf(
+    MeshFormat format);                 ///< "model/obj", "model/gltf-binary", "application/zip"
+const char* nameOf(MeshFormat format);  ///< "obj", "glb", "zip"
+std::optional<MeshFormat> meshFormatNamed(std::string_view name);  ///< "obj", "glb", "zip"
+/// Whether the format is a glTF model (a whole scene): Glb or GltfZip.
+inline bool isGltfFormat(MeshFormat format) {
+    return format == MeshFormat::Glb || format == MeshFormat::GltfZip;
+}
 
-/// Loads a whole mesh file from memory with the real loader (tinyobjloader; tinygltf for .glb) and
+/// Loads a whole mesh file from memory with the real loader (tinyobjloader; tinygltf for .glb, and
+/// for a .zip's .gltf with its files, gltf/gltf_zip.h) and
 /// checks every vertex and index. Opens no file (no mtllib, no external glTF buffer or image URI).
 /// Throws InputError at `path`, its message naming `name` and the line (OBJ, "line 12: ...") or
 /// the glTF object ("accessor 3: ...", "buffer 0: ...") at fault: truncated, binary garbage,

@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "scene/mesh_file.h"
 #include "scene/mesh_loader.h"
 
 namespace caustic {
@@ -32,8 +33,9 @@ struct MeshErrors {
 /// kMaxObjFaceCorners corners, and the faces make at most `maxTriangles` triangles (n - 2 each).
 void checkObjLines(std::string_view bytes, const MeshErrors& errors, uint64_t maxTriangles);
 
-/// Reads a glTF 2.0 binary (.glb) from memory as one mesh; see parseMeshBytes.
-TriangleMesh parseGlb(std::string_view bytes, const MeshTransform& transform, bool texcoords,
-                      const MeshErrors& errors);
+/// Reads a glTF 2.0 binary (.glb) or a .zip of a .gltf from memory as one mesh; see
+/// parseMeshBytes.
+TriangleMesh parseGltf(std::string_view bytes, MeshFormat format, const MeshTransform& transform,
+                       bool texcoords, const MeshErrors& errors);
 
 }  // namespace caustic

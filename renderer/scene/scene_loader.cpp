@@ -254,7 +254,8 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
     const Json* assetField = o.find("asset");
     const Json* embeddedField = o.find("embedded");
     if (int(!!fileField) + int(!!assetField) + int(!!embeddedField) > 1)
-        throw InputError(o.path(), "a mesh has one of \"file\", \"asset\" and \"embedded\"");
+        throw InputError(o.path(),
+                         "a mesh has one of \"file\", \"asset\" and \"embedded\", not two");
     if (!fileField && !assetField && !embeddedField)
         throw InputError(o.path(),
                          "a mesh needs \"file\" (an OBJ in the assets folder) or "

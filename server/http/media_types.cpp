@@ -22,7 +22,8 @@ const std::vector<BodyRoute> kBodyRoutes = {
     {.method = "POST", .path = "/api/jobs", .mediaTypes = {"application/json"}},
     {.method = "POST",
      .path = "/api/assets",
-     .mediaTypes = {mediaTypeOf(MeshFormat::Obj), mediaTypeOf(MeshFormat::Glb)}},
+     .mediaTypes = {mediaTypeOf(MeshFormat::Obj), mediaTypeOf(MeshFormat::Glb),
+                    mediaTypeOf(MeshFormat::GltfZip)}},
 };
 
 // The media type of a Content-Type value, without parameters or spaces, in lower case

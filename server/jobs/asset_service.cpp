@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "gltf/gltf_scene.h"
+#include "gltf/gltf_zip.h"
 #include "jobs/clock.h"
 #include "scene/mesh_file.h"
 #include "store/disk_space.h"
@@ -76,7 +77,8 @@ std::optional<Upload> AssetService::refuseRequest(std::string_view mediaType,
         return refused(Outcome::UnsupportedType,
                        (mediaType.empty() ? std::string("no Content-Type")
                                           : "Content-Type \"" + std::string(mediaType) + "\"") +
-                           ": send a mesh as model/obj or model/gltf-binary");
+                           ": send a mesh as model/obj or model/gltf-binary, or a glTF model "
+                           "with its files as application/zip");
     if (!isUtf8(name)) return refused(Outcome::BadName, "name is not UTF-8");
     if (characters(name) > kMaxNameCharacters)
         return refused(Outcome::BadName,
@@ -99,21 +101,23 @@ std::optional<Upload> AssetService::admit(std::string_view mediaType, const std:
     return std::nullopt;
 }
 
-Json AssetService::modelSummary(const std::string& bytes, const std::string& name) const {
+Json AssetService::modelSummary(const std::string& bytes, MeshFormat format,
+                                const std::string& name) const {
     const std::string path;
     const MeshErrors errors{name, path};
     GltfImportOptions options;
     options.countOnly = true;
     options.maxPixels = config_.limits.maxPixels;
-    return importGltf(loadGlbModel(bytes, errors), options, errors).summary;
+    return importGltf(loadGltfUpload(bytes, format, errors), options, errors).summary;
 }
 
 Json AssetService::model(const Asset& asset) {
-    if (asset.format != nameOf(MeshFormat::Glb)) return nullptr;
+    const std::optional<MeshFormat> format = meshFormatNamed(asset.format);
+    if (!format || !isGltfFormat(*format)) return nullptr;
     std::shared_ptr<const std::string> bytes = store_.assetBytes(asset.id);
     if (!bytes) return nullptr;
     try {
-        return modelSummary(*bytes, asset.name.empty() ? "asset " + asset.id : asset.name);
+        return modelSummary(*bytes, *format, asset.name.empty() ? "asset " + asset.id : asset.name);
     } catch (const InputError& e) {
         // Stored under other limits (a larger --max-pixels): it imported then, not now.
         return Json{{"error", e.message()}};
@@ -143,10 +147,10 @@ std::optional<Upload> AssetService::load(MeshFormat format, const std::string& n
     }
     if (int64_t(mesh.triangles.size()) > maxTriangles)
         return tooMany("the mesh has " + std::to_string(mesh.triangles.size()) + " triangles");
-    if (format == MeshFormat::Glb) {
-        // A .glb is a scene too: it must import as one (materials, images, extensions).
+    if (isGltfFormat(format)) {
+        // A glTF model is a scene too: it must import as one (materials, images, extensions).
         try {
-            model = modelSummary(bytes, name.empty() ? "the upload" : name);
+            model = modelSummary(bytes, format, name.empty() ? "the upload" : name);
         } catch (const InputError& e) {
             return refused(Outcome::Invalid, e.message());
         }

@@ -23,7 +23,7 @@ struct Upload {
     enum class Outcome {
         Created,           ///< Stored now: `asset`.
         Existing,          ///< The same bytes were stored before: `asset`, as stored then.
-        UnsupportedType,   ///< Not model/obj or model/gltf-binary.
+        UnsupportedType,   ///< Not model/obj, model/gltf-binary or application/zip.
         BadName,           ///< The display name is too long or not UTF-8.
         TooLarge,          ///< Over --max-asset-bytes.
         Invalid,           ///< The loader refused the file: `detail` names the line or object.
@@ -62,9 +62,9 @@ public:
     Upload upload(std::string_view mediaType, const std::string& name, const std::string& bytes);
 
     std::optional<Asset> get(const std::string& id) { return store_.getAsset(id); }
-    /// What a .glb asset holds as a scene (gltf/gltf_scene.h's summary: meshes, triangles,
-    /// materials, textures with their sizes, cameras, lights, extensions, warnings); null for an
-    /// OBJ. Reads the file from the store.
+    /// What a glTF asset (.glb or .zip) holds as a scene (gltf/gltf_scene.h's summary: meshes,
+    /// triangles, materials, textures with their sizes, cameras, lights, extensions, warnings);
+    /// null for an OBJ. Reads the file from the store.
     Json model(const Asset& asset);
     AssetPage list(int limit, int64_t before) { return store_.listAssets(limit, before); }
     /// Removes an asset no queued or running job uses, and gives its space back to the disk.
@@ -79,7 +79,7 @@ private:
                                Asset& asset, Json& model) const;
     /// The summary of a .glb imported as a scene, counting only; InputError when it does not
     /// import.
-    Json modelSummary(const std::string& bytes, const std::string& name) const;
+    Json modelSummary(const std::string& bytes, MeshFormat format, const std::string& name) const;
 
     const ServerConfig& config_;
     JobStore& store_;

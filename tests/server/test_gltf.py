@@ -3,10 +3,14 @@ asset lists what it holds as a scene, a job renders it by {"scene": {"gltf": {"a
 overrides, the job says which camera and environment it used, and bad files and overrides are
 4xx naming the glTF object or the JSON path."""
 
+import io
+import json
 import struct
+import zipfile
 
-from conftest import assert_problem, run_to_end, submit_ok
-from test_assets import GLB, OBJ, TRIANGLE_OBJ, glb_bytes, glb_document, stored, upload
+from conftest import ROOT, assert_problem, run_to_end, submit_ok
+from test_assets import (GLB, OBJ, QUAD_GLB, QUAD_INDICES, QUAD_POSITIONS, TRIANGLE_OBJ, glb_bytes,
+                         glb_document, stored, upload)
 
 # The quad file with a camera looking at it from +z and a point light in front of it.
 LIT_GLB = glb_bytes(glb_document(
@@ -79,7 +83,7 @@ def test_bad_models_and_overrides_are_4xx_at_their_path(server):
                    pointer="/scene/materials/Red")
     obj = stored(server, TRIANGLE_OBJ, OBJ)
     assert_problem(server.post("/api/jobs", json=gltf_job(obj["id"])), 422,
-                   detail="is obj, not a glTF binary (.glb)", pointer="/scene/gltf/asset")
+                   detail="is obj, not a glTF model (.glb, or .zip of a .gltf)", pointer="/scene/gltf/asset")
     forged = gltf_job(asset["id"])
     forged["scene"]["gltf"]["summary"] = {}
     assert_problem(server.post("/api/jobs", json=forged), 422,
@@ -96,4 +100,61 @@ def test_bad_models_and_overrides_are_4xx_at_their_path(server):
     assert_problem(upload(server, bad, GLB), 422,
                    detail="material 0 (Hot): pbrMetallicRoughness: metallicFactor is 2, not in "
                           "[0, 1]")
+    server.healthy()
+
+
+# A .gltf with its buffer and an image as files, zipped (application/zip).
+ZIP = "application/zip"
+
+
+def gltf_zip(entries=None, gltf_name="model/scene.gltf", uri="quad.bin", extra=None):
+    """A zip of a .gltf (the quad with a base colour texture) and its files; `entries` replaces
+    the files, `extra` adds (name, bytes) pairs."""
+    bin_ = b"".join(struct.pack("<3f", *p) for p in QUAD_POSITIONS)
+    bin_ += struct.pack(f"<{len(QUAD_INDICES)}H", *QUAD_INDICES)
+    doc = glb_document(buffers=[{"byteLength": len(bin_), "uri": uri}],
+                       images=[{"uri": "textures/tiles%20small.png"}],
+                       textures=[{"source": 0}],
+                       materials=[{"name": "Tiles", "pbrMetallicRoughness": {
+                           "baseColorTexture": {"index": 0}, "metallicFactor": 0}}],
+                       meshes=[{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1,
+                                                "material": 0}]}])
+    with open(f"{ROOT}/assets/meshes/tiles.png", "rb") as f:
+        png = f.read()
+    files = entries if entries is not None else [
+        (gltf_name, json.dumps(doc).encode()), ("model/quad.bin", bin_),
+        ("model/textures/tiles small.png", png)]
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as z:
+        for name, data in files + list(extra or []):
+            z.writestr(zipfile.ZipInfo(name), data, zipfile.ZIP_DEFLATED)
+    return out.getvalue()
+
+
+def test_a_zipped_gltf_uploads_and_renders(server):
+    asset = stored(server, gltf_zip(), ZIP)
+    assert asset["format"] == "zip"
+    model = server.get(f"/api/assets/{asset['id']}").json()["model"]
+    assert model["triangles"] == 4 and model["materials"] == ["Tiles"]
+    assert model["textures"][0]["width"] > 0
+    job = submit_ok(server, gltf_job(asset["id"], camera={"auto": {}, "width": 32}))
+    assert run_to_end(server, job["id"])["state"] == "succeeded"
+
+
+def test_hostile_zips_are_refused(server):
+    cases = [
+        (gltf_zip(uri="../quad.bin"), "leaves the .gltf's folder"),
+        (gltf_zip(uri="/etc/passwd"), "leaves the .gltf's folder"),
+        (gltf_zip(extra=[("../x", b"evil")]), "entry \"../x\": a name must stay inside the archive"),
+        (gltf_zip(extra=[("/abs/x", b"evil")]), "entry \"/abs/x\": a name must stay inside"),
+        (gltf_zip(extra=[("other.gltf", b"{}")]), "holds more than one .gltf"),
+        (gltf_zip(entries=[("a.bin", b"x")]), "holds no .gltf file"),
+        # A zip bomb: 64 MiB of zeros deflate to about 64 kB.
+        (gltf_zip(extra=[("model/zeros.bin", bytes(64 << 20))]), "(a zip bomb?)"),
+        (b"PK\x03\x04 not really a zip", "not a zip archive"),
+        # A .glb sent as a zip: not one (or, when stored before as a .glb, refused as such).
+        (QUAD_GLB + b"\0" * 4, "not a zip archive"),
+    ]
+    for body, detail in cases:
+        assert_problem(upload(server, body, ZIP), 422, detail=detail)
     server.healthy()

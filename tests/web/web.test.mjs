@@ -423,6 +423,66 @@ function objCounts(text) {
   return {triangles, vertices};
 }
 
+// The repository's glTF example (Blender's export, Draco-compressed): a whole scene.
+const MODELS = fileURLToPath(new URL('../../assets/models/', import.meta.url));
+
+test('gltf: drop a .glb, see its thumbnail, choose a camera, use it as the scene, get the render', async () => {
+  const {page, close} = await openPage();
+  await selectExample(page, 'cornell-box');
+  await smallScene(page, 64);
+  const bytes = readFileSync(path.join(MODELS, 'still-life.glb'));
+  const transfer = await page.evaluateHandle(b64 => {
+    const body = Uint8Array.from(atob(b64), c => c.charCodeAt(0));
+    const dt = new DataTransfer();
+    dt.items.add(new File([body], 'still-life.glb'));
+    return dt;
+  }, bytes.toString('base64'));
+  const uploaded = page.waitForResponse(r => r.url().startsWith(`${BASE}/api/assets`) && r.request().method() === 'POST');
+  const thumbnailJob = page.waitForResponse(r => r.url() === `${BASE}/api/jobs` && r.request().method() === 'POST');
+  await page.dispatchEvent('#asset-drop', 'drop', {dataTransfer: transfer});
+  const response = await uploaded;
+  assert.ok([200, 201].includes(response.status()), `upload: ${response.status()}`);
+  assert.equal(response.request().headers()['content-type'], 'model/gltf-binary');
+  const asset = await response.json();
+  assert.equal(asset.model.cameras.length, 1, 'the file has one camera');
+  const item = `.asset[data-id="${asset.id}"]`;
+  await page.waitForSelector(item);
+
+  // The thumbnail: a quick job of the model through the automatic camera, shown in its item.
+  const thumb = (await (await thumbnailJob).json());
+  assert.deepEqual(thumb.model.camera, {auto: {azimuth: 30, elevation: 20, fov: 40}});
+  await page.waitForSelector(`${item} .asset-thumb:not([hidden])`, {timeout: RENDER_TIMEOUT});
+  await page.waitForFunction(sel => document.querySelector(sel).naturalWidth === 192,
+    `${item} .asset-thumb`, {timeout: RENDER_TIMEOUT});
+
+  // The camera choice: the file's camera (chosen first) and the automatic one.
+  await page.waitForSelector(`${item} .asset-camera[data-ready=true]`);
+  const options = await page.$$eval(`${item} .asset-camera option`, os => os.map(o => [o.value, o.textContent]));
+  assert.deepEqual(options, [['auto', 'automatic camera'], ['0', 'Camera']]);
+  assert.equal(await page.inputValue(`${item} .asset-camera`), '0');
+  await shot(page, 'gltf-uploaded');
+
+  // Use as scene with the automatic camera, then Render: the job renders the model.
+  await page.selectOption(`${item} .asset-camera`, 'auto');
+  await page.click(`${item} button:text("Use as scene")`);
+  const scene = JSON.parse(await page.inputValue('#scene-json'));
+  assert.deepEqual(scene, {gltf: {asset: asset.id}, camera: {auto: {}}});
+  await page.selectOption('#s-integrator', 'path');
+  await page.fill('#s-spp', '8');
+  await page.fill('#s-width', '96');  // the height follows the automatic camera's 4:3
+  const {status, body: job} = await submit(page);
+  assert.equal(status, 202, JSON.stringify(job));
+  assert.deepEqual(job.model.camera, {auto: {azimuth: 30, elevation: 20, fov: 40}});
+  await page.waitForSelector(`${itemOf(job.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
+  await page.waitForSelector('#viewer-canvas[data-kind=image]');
+  assert.deepEqual(await page.$eval('#viewer-canvas', c => ({w: c.width, h: c.height, src: c.dataset.src})),
+    {w: 96, h: 72, src: `/api/jobs/${job.id}/image.png`});
+  const done = (await api(`/api/jobs/${job.id}`)).body;
+  assert.ok(done.stats.memory.meshes > 0, 'the render loaded the model\'s meshes');
+  await shot(page, 'gltf-rendered');
+  await close();
+});
+
 test('assets: drop a mesh, see its counts, insert it, render it; delete refused while used, then deleted', async () => {
   const {page, close} = await openPage();
   await selectExample(page, 'cornell-box');

@@ -44,7 +44,7 @@ const asset = id => `/api/assets/${encodeURIComponent(id)}`;
 /** The media type POST /api/assets takes for a mesh file's name, or '' for another kind of file. */
 export function meshMediaType(name) {
   const ext = /\.([^.]+)$/.exec(name)?.[1]?.toLowerCase();
-  return {obj: 'model/obj', glb: 'model/gltf-binary'}[ext] || '';
+  return {obj: 'model/obj', glb: 'model/gltf-binary', zip: 'application/zip'}[ext] || '';
 }
 
 // The file as the raw body. XMLHttpRequest, not fetch: only it reports upload progress.
@@ -88,6 +88,8 @@ export const api = {
   /** Uploads a mesh File; onProgress(fraction sent). Resolves to the asset (new or known). */
   uploadAsset: (file, onProgress = () => {}) => upload(file, onProgress),
   removeAsset: id => request('DELETE', asset(id)),
+  /** One asset; a .glb's has `model`: its cameras, lights, materials (docs/gltf.md). */
+  asset: id => request('GET', asset(id)),
   /** {store: 'sqlite' | 'postgresql', workers: [...]}: the worker threads sharing the store. */
   workers: () => request('GET', '/api/workers'),
 };

@@ -40,7 +40,8 @@ const jobs = new Jobs();
 const viewer = new Viewer($('#viewer'), jobs);
 const compare = new Compare($('#compare'), jobs, reportError);
 const queue = new QueueView($('#jobs'), $('#jobs-empty'), jobs, {onOpen: openJob, onError: reportError});
-const assets = new AssetsPanel($('#assets-panel'), {onInsert: insertAsset, onUnauthorized: askForToken});
+const assets = new AssetsPanel($('#assets-panel'),
+  {onInsert: insertAsset, onUseModel: useModel, onUnauthorized: askForToken});
 const workers = new WorkersPanel($('#workers-panel'), {onOpen: openJob});
 const scheduling = new SchedulingFields($('#job-options'));
 const OFFLINE = 'The server does not answer';
@@ -182,6 +183,13 @@ function insertAsset(asset) {
   const pointer = `/shapes/${scene.shapes.length - 1}`;
   selectInEditor(pointer);
   return `Inserted ${asset.name || 'the mesh'} as ${pointer} (material "${shape.material}", scale ${shape.transform.scale}).`;
+}
+
+// Use as scene (Assets panel, a .glb): the model's scene object replaces the editor's scene.
+function useModel(scene) {
+  sceneText.value = JSON.stringify(scene, null, 2);
+  sceneText.dispatchEvent(new Event('input'));
+  return 'The model is the scene: Render renders it (docs/gltf.md lists the overrides a scene may add).';
 }
 
 function clearErrors() {

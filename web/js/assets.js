@@ -1,19 +1,26 @@
 // The Assets panel: uploads meshes (.obj, .glb) from a file picker or dropped anywhere on the page,
 // with a progress bar, lists the uploaded ones (GET /api/assets, newest first) with their counts
-// and bounds, and offers Insert (a mesh shape into the scene editor) and Delete for each.
+// and bounds, and offers Insert (a mesh shape into the scene editor) and Delete for each. A .glb is
+// a whole scene too (docs/gltf.md): its item offers its cameras and the automatic one, and "Use as
+// scene" puts the model into the editor; an upload renders a thumbnail of it (a quick job).
 import {api, meshMediaType} from './api.js';
 import {h} from './format.js';
 
 const exact = n => (Number.isFinite(n) ? n.toLocaleString('en-US') : '—');
 const coord = v => String(+v.toPrecision(3));
 const point = p => `[${p.map(coord).join(', ')}]`;
+/** A glTF model (.glb, or .zip of a .gltf): a whole scene. */
+const isModel = asset => ['glb', 'zip'].includes(asset.format);
 
 export class AssetsPanel {
   /** @param onInsert(asset) puts the asset into the scene; returns a line saying what it did.
+   *  @param onUseModel(scene) puts a glTF model's scene object into the editor; returns a line.
    *  @param onUnauthorized() asks for the token (a 401). */
-  constructor(panel, {onInsert, onUnauthorized}) {
+  constructor(panel, {onInsert, onUseModel, onUnauthorized}) {
     this.panel = panel;
     this.onInsert = onInsert;
+    this.onUseModel = onUseModel;
+    this.thumbnails = new Map();  // asset id -> image URL of its thumbnail job
     this.onUnauthorized = onUnauthorized;
     this.list = panel.querySelector('#assets');
     this.empty = panel.querySelector('#assets-empty');
@@ -74,7 +81,7 @@ export class AssetsPanel {
   async upload(file) {
     this.error.textContent = '';
     if (!meshMediaType(file.name)) {
-      this.error.textContent = `${file.name}: not a mesh this service takes (.obj or .glb)`;
+      this.error.textContent = `${file.name}: not a mesh this service takes (.obj, .glb, or .zip of a .gltf)`;
       return;
     }
     this.status.textContent = `Uploading ${file.name}…`;
@@ -89,6 +96,7 @@ export class AssetsPanel {
       this.status.textContent = `${file.name}: ${exact(asset.triangles)} triangles, ` +
         `${exact(asset.vertices)} vertices.`;
       await this.refresh();
+      if (isModel(asset)) this.thumbnail(asset);
     } catch (e) {
       this.status.textContent = '';
       this.error.textContent = `${file.name}: ${e.message}`;
@@ -115,6 +123,7 @@ export class AssetsPanel {
       }});
     const remove = h('button', {type: 'button', class: 'danger', text: 'Delete', 'aria-label': `Delete ${name}`,
       onclick: () => this.remove(asset, error)});
+    const model = isModel(asset) ? this.modelControls(asset, name, error) : [];
     return h('li', {class: 'asset', 'data-id': asset.id},
       h('div', {class: 'asset-head'}, h('span', {class: 'asset-name', text: name, title: asset.id}),
         h('span', {class: 'state', text: asset.format})),
@@ -123,8 +132,54 @@ export class AssetsPanel {
         ...fact('vertices', 'vertices', exact(asset.vertices)),
         ...fact('size', 'size', size),
         ...fact('bounds', 'bounds', `${point(min)} – ${point(max)}`)),
+      ...model.slice(0, 1),
       error,
-      h('div', {class: 'asset-actions'}, insert, remove));
+      h('div', {class: 'asset-actions'}, ...model.slice(1), insert, remove));
+  }
+
+  // A glTF model's thumbnail, camera choice (the file's cameras, from GET /api/assets/{id}, and the
+  // automatic one) and "Use as scene": [thumbnail, camera select, button].
+  modelControls(asset, name, error) {
+    const thumb = h('img', {class: 'asset-thumb', alt: `${name}, a quick render`});
+    thumb.hidden = !this.thumbnails.has(asset.id);
+    if (this.thumbnails.has(asset.id)) thumb.src = this.thumbnails.get(asset.id);
+    const camera = h('select', {class: 'asset-camera', 'aria-label': `Camera for ${name}`},
+      h('option', {value: 'auto', text: 'automatic camera'}));
+    api.asset(asset.id).then(full => {
+      for (const c of full.model?.cameras || [])
+        camera.append(h('option', {value: String(c.camera), text: c.name || `camera ${c.camera}`}));
+      if (full.model?.cameras?.length) camera.value = String(full.model.cameras[0].camera);
+      camera.dataset.ready = 'true';
+    }).catch(e => { error.textContent = `The model could not be read: ${e.message}`; });
+    const use = h('button', {type: 'button', text: 'Use as scene', 'aria-label': `Use ${name} as the scene`,
+      onclick: () => {
+        error.textContent = '';
+        const view = camera.value === 'auto' ? {auto: {}} : {gltf: Number(camera.value)};
+        this.status.textContent = this.onUseModel({gltf: {asset: asset.id}, camera: view});
+      }});
+    return [thumb, camera, use];
+  }
+
+  // A quick render of a new .glb (4 spp, 192 pixels wide, automatic camera), shown in its item.
+  async thumbnail(asset) {
+    try {
+      const job = await api.submit({scene: {gltf: {asset: asset.id}, camera: {auto: {}, width: 192}},
+                                    settings: {spp: 4, max_depth: 4}});
+      for (let wait = 250; ; wait = Math.min(2 * wait, 2000)) {
+        const now = await api.job(job.id);
+        if (now.state === 'succeeded') break;
+        if (['failed', 'cancelled'].includes(now.state)) return;
+        await new Promise(resolve => setTimeout(resolve, wait));
+      }
+      this.thumbnails.set(asset.id, `/api/jobs/${encodeURIComponent(job.id)}/image.png`);
+      const img = this.list.querySelector(`.asset[data-id="${asset.id}"] .asset-thumb`);
+      if (img) {
+        img.src = this.thumbnails.get(asset.id);
+        img.hidden = false;
+      }
+    } catch (e) {
+      if (e.status === 401) this.onUnauthorized();
+    }
   }
 
   // A job that is queued or running with the asset keeps it (409): its detail says so.

@@ -9,6 +9,7 @@
 
 #include <draco/compression/encode.h>
 #include <draco/mesh/triangle_soup_mesh_builder.h>
+#include <meshoptimizer.h>
 
 #include "core/error.h"
 #include "film/image_io.h"
@@ -209,6 +210,78 @@ TEST(GltfScene, DracoCompressedMeshes) {
     }
 }
 
+// The square with EXT_meshopt_compression: its positions and indices compressed by
+// meshoptimizer's encoders in buffer 0, the views' own buffer a fallback holding no data.
+GlbModel meshoptSquare() {
+    const std::vector<float> positions{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const std::vector<unsigned> indices{0, 1, 2, 0, 2, 3};
+    std::string vertexData(meshopt_encodeVertexBufferBound(4, 12), '\0');
+    vertexData.resize(
+        meshopt_encodeVertexBuffer(reinterpret_cast<unsigned char*>(vertexData.data()),
+                                   vertexData.size(), positions.data(), 4, 12));
+    std::string indexData(meshopt_encodeIndexBufferBound(6, 4), '\0');
+    indexData.resize(meshopt_encodeIndexBuffer(reinterpret_cast<unsigned char*>(indexData.data()),
+                                               indexData.size(), indices.data(), 6));
+    GlbModel m = squareGlb();
+    const size_t indexOffset = (vertexData.size() + 3) / 4 * 4;
+    m.bin = vertexData;
+    m.bin.resize(indexOffset, '\0');
+    m.bin += indexData;
+    m.gltf["buffers"] = {
+        {{"byteLength", m.bin.size()}},
+        {{"byteLength", 60}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
+    auto compressed = [](size_t offset, size_t length, int stride, int count, const char* mode) {
+        return Json{{"EXT_meshopt_compression",
+                     {{"buffer", 0},
+                      {"byteOffset", offset},
+                      {"byteLength", length},
+                      {"byteStride", stride},
+                      {"count", count},
+                      {"mode", mode}}}};
+    };
+    m.gltf["bufferViews"] = {
+        {{"buffer", 1},
+         {"byteOffset", 0},
+         {"byteLength", 48},
+         {"byteStride", 12},
+         {"extensions", compressed(0, vertexData.size(), 12, 4, "ATTRIBUTES")}},
+        {{"buffer", 1},
+         {"byteOffset", 48},
+         {"byteLength", 12},
+         {"extensions", compressed(indexOffset, indexData.size(), 2, 6, "TRIANGLES")}}};
+    m.gltf["extensionsUsed"] = m.gltf["extensionsRequired"] = {"EXT_meshopt_compression"};
+    return m;
+}
+
+TEST(GltfScene, MeshoptCompressedMeshes) {
+    GltfScene g = imported(meshoptSquare());
+    const TriangleMesh& mesh = g.embedded->meshes[1].mesh;  // node 1: moved, scaled by 2
+    ASSERT_EQ(mesh.triangles.size(), 2u);
+    EXPECT_EQ(mesh.triangles[1], glm::uvec3(0, 2, 3));
+    EXPECT_EQ(mesh.positions[2], Vec3(12, 2, -5));
+    // A range past its buffer, and data that does not decode, name the bufferView.
+    GlbModel past = meshoptSquare();
+    past.gltf["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]["byteLength"] = 100000;
+    expectImportError(
+        past, "bufferView 1: EXT_meshopt_compression: 100000 bytes at offset " +
+                  past.gltf["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]["byteOffset"]
+                      .dump() +
+                  " run past the end of buffer 0 (" +
+                  std::to_string((past.bin.size() + 3) / 4 * 4) +  // padded to 4
+                  " bytes)");
+    GlbModel garbage = meshoptSquare();
+    for (char& c : garbage.bin) c = char(0x5A);
+    try {
+        imported(garbage);
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(
+            e.message().find("bufferView 0: EXT_meshopt_compression: the data does not decode"),
+            std::string::npos)
+            << e.message();
+    }
+}
+
 TEST(GltfScene, TexturesWithTheirTransform) {
     GlbModel m = texturedSquare(pngOf(8, 4, 0.5f));
     m.gltf["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
@@ -353,7 +426,8 @@ TEST(GltfScene, ExtensionsRequiredAndUsed) {
     m.gltf["extensionsRequired"] = {"KHR_materials_sheen"};
     expectImportError(m,
                       "the file requires the extension \"KHR_materials_sheen\", which Caustic does "
-                      "not support (it reads KHR_draco_mesh_compression, KHR_lights_punctual, "
+                      "not support (it reads EXT_meshopt_compression, KHR_draco_mesh_compression, "
+                      "KHR_lights_punctual, "
                       "KHR_materials_emissive_strength, "
                       "KHR_materials_ior, KHR_materials_transmission, KHR_materials_volume, "
                       "KHR_mesh_quantization, KHR_texture_transform)");

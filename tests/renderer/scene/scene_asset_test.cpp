@@ -124,7 +124,8 @@ TEST(SceneMeshAsset, ExactlyOneOfFileAndAsset) {
     FakeStore store;
     Json both = assetShape(kId);
     both["file"] = "teapot.obj";
-    expectSceneError(withShapes({both}), "/shapes/0", "a mesh has \"file\" or \"asset\", not both",
+    expectSceneError(withShapes({both}), "/shapes/0",
+                     "a mesh has one of \"file\", \"asset\" and \"embedded\", not two",
                      store.options());
     Json neither = assetShape(kId);
     neither.erase("asset");
