@@ -10,7 +10,9 @@ rm -rf "$work"
 mkdir -p "$work/corpus" "$work/findings"
 cp "$seeds"/* "$work/corpus/"
 # One thread per target (see fuzz_support.h); findings are written to $work/findings/, each report
-# with its stack.
+# with its stack. Leaks inside libraries we do not build are suppressed as in the sanitizer build
+# (tests/sanitize/lsan.supp, each with its reason).
 export OMP_NUM_THREADS=1 UBSAN_OPTIONS=print_stacktrace=1
+export LSAN_OPTIONS="suppressions=$(cd "$(dirname "$0")/../sanitize" && pwd)/lsan.supp"
 "$fuzzer" "$work/corpus" -dict="$dict" -max_total_time="$seconds" -timeout=5 \
     -rss_limit_mb=2048 -max_len=8192 -artifact_prefix="$work/findings/" -print_final_stats=1

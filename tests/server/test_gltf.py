@@ -158,3 +158,56 @@ def test_hostile_zips_are_refused(server):
     for body, detail in cases:
         assert_problem(upload(server, body, ZIP), 422, detail=detail)
     server.healthy()
+
+
+def png_header(width, height):
+    """A PNG whose header says width x height, with an empty zlib stream of pixel data."""
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(b"")) + chunk(b"IEND", b""))
+
+
+def glb_with_bin(doc, bin_):
+    """A .glb of the document and the BIN chunk `bin_` (padded)."""
+    json_chunk = json.dumps(doc).encode()
+    json_chunk += b" " * (-len(json_chunk) % 4)
+    bin_ += b"\0" * (-len(bin_) % 4)
+    body = (struct.pack("<II", len(json_chunk), 0x4E4F534A) + json_chunk +
+            struct.pack("<II", len(bin_), 0x004E4942) + bin_)
+    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
+
+
+def test_hostile_glb_files_are_422_naming_the_object(server):
+    """The issue's hostile files, through the service: each a 422 naming the glTF object, and the
+    service answers after them."""
+    quad = b"".join(struct.pack("<3f", *p) for p in QUAD_POSITIONS)
+    quad += struct.pack(f"<{len(QUAD_INDICES)}H", *QUAD_INDICES)
+    png = png_header(65535, 65535)
+    huge = glb_document(
+        images=[{"bufferView": 2, "mimeType": "image/png", "name": "huge"}],
+        textures=[{"source": 0}],
+        materials=[{"name": "Huge", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        meshes=[{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+        bufferViews=glb_document()["bufferViews"] + [
+            {"buffer": 0, "byteOffset": len(quad), "byteLength": len(png)}],
+        buffers=[{"byteLength": len(quad) + len(png)}])
+    cycle = glb_document(nodes=[{"mesh": 0, "children": [(i + 1) % 100]} for i in range(100)],
+                         scenes=[{"nodes": []}])
+    overflow = glb_document()
+    overflow["accessors"][0]["count"] = 1 << 62
+    out_of_range = glb_document()
+    out_of_range["bufferViews"][0]["byteLength"] = 4096
+    cases = [
+        (glb_with_bin(huge, quad + png), "image 0 (huge): "),
+        (glb_with_bin(huge, quad + png), "65535 x 65535 pixels, over the limit"),
+        (glb_bytes(cycle), "node 0: its own ancestor (the node hierarchy has a cycle)"),
+        (glb_bytes(overflow), "accessor 0: "),
+        (glb_bytes(out_of_range), "bufferView 0: 4096 bytes at offset 0 run past the end"),
+        (b"glTF\x02\x00\x00\x00garbage", "truncated"),
+    ]
+    for data, detail in cases:
+        assert_problem(upload(server, data, GLB), 422, detail=detail)
+    server.healthy()
