@@ -298,6 +298,50 @@ private:
     std::vector<std::string> lightNames_, lightTypes_;
 };
 
+// A request's "lights": an array of Caustic lights added to the file's, or an object whose keys
+// name the file's lights (KHR_lights_punctual's "name"; every light of that name) and whose values
+// are fields merged into them, null to leave them out.
+void changeLights(Json& scene, const Json& summary, const Json& request, const std::string& at) {
+    if (!scene.contains("lights")) scene["lights"] = Json::array();
+    Json& lights = scene["lights"];
+    if (request.is_array()) {
+        for (const Json& light : request) lights.push_back(light);
+        return;
+    }
+    if (!request.is_object())
+        throw InputError(at,
+                         "expected an array of lights to add, or an object of the file's "
+                         "lights to change by name");
+    const Json& named = summary.at("lights");  // the file's lights, in the scene's order
+    std::vector<bool> removed(lights.size(), false);
+    for (auto it = request.begin(); it != request.end(); ++it) {
+        const std::string path = jsonPointer(at, it.key());
+        if (!it.value().is_object() && !it.value().is_null())
+            throw InputError(path, "expected an object of fields to change, or null");
+        bool found = false;
+        for (size_t i = 0; i < named.size() && i < lights.size(); ++i) {
+            if (named[i].value("name", "") != it.key()) continue;
+            found = true;
+            if (it.value().is_null())
+                removed[i] = true;
+            else
+                lights[i].merge_patch(it.value());
+        }
+        if (!found) {
+            std::string known;
+            for (const Json& n : named)
+                if (!n.value("name", "").empty()) appendListed(known, n.value("name", ""));
+            throw InputError(path, "no light of that name in the file; its lights: " +
+                                       (known.empty() ? std::string("none named") : known));
+        }
+    }
+    Json kept = Json::array();
+    for (size_t i = 0; i < lights.size(); ++i)
+        if (i >= removed.size() || !removed[i]) kept.push_back(lights[i]);
+    lights = std::move(kept);
+    if (lights.empty()) scene.erase("lights");
+}
+
 }  // namespace
 
 const std::vector<std::string>& supportedGltfExtensions() {
@@ -446,11 +490,8 @@ Json gltfSceneWithOverrides(GltfScene& imported, const Json& request, const std:
             scene["materials"][it.key()].merge_patch(it.value());
         }
     }
-    if (const Json* l = o.find("lights")) {
-        if (!l->is_array()) throw InputError(o.pathOf("lights"), "expected an array of lights");
-        if (!scene.contains("lights")) scene["lights"] = Json::array();
-        for (const Json& light : *l) scene["lights"].push_back(light);
-    }
+    if (const Json* l = o.find("lights"))
+        changeLights(scene, imported.summary, *l, o.pathOf("lights"));
     if (const Json* s = o.find("settings")) scene["settings"] = *s;
     o.finish();
     return scene;

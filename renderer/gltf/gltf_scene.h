@@ -54,8 +54,9 @@ GltfScene importGltf(const GltfFile& file, const GltfImportOptions& options,
 /// The scene to render: `imported.scene` with the overrides of `request` (a job's "scene" object
 /// or the CLI's), read at JSON path `path`: "camera" ({"gltf": index or name}, {"auto": {...}}
 /// or a Caustic camera, each with optional "width" and "height"), "environment" (null: none),
-/// "background", "materials" (fields merged into the file's material of that name), "lights"
-/// (added to the file's), "settings". Records in the summary what was used ("camera",
+/// "background", "materials" (fields merged into the file's material of that name), "lights" (an
+/// array added to the file's, or an object changing the file's by name, null leaving one out),
+/// "settings". Records in the summary what was used ("camera",
 /// "environment"). InputError at the override's path.
 Json gltfSceneWithOverrides(GltfScene& imported, const Json& request, const std::string& path,
                             const GltfImportOptions& options);

@@ -347,6 +347,21 @@ TEST(GltfScene, PunctualLightsInTheirUnits) {
     EXPECT_EQ(lights[2]["lux"], 1000.0);
     EXPECT_NEAR(lights[2]["direction"][1].get<double>(), -1.0, 1e-9);
     EXPECT_FALSE(g.scene.contains("environment"));  // the file lights itself
+    // A job changes the file's lights by name, or leaves them out.
+    Json changed =
+        gltfSceneWithOverrides(g, {{"lights", {{"bulb", {{"candela", 10}}}}}}, "/scene", {});
+    EXPECT_EQ(changed["lights"][0]["candela"], 10);
+    EXPECT_EQ(changed["lights"][0]["color"], Json({1.0, 0.5, 0.25}));
+    changed = gltfSceneWithOverrides(g, {{"lights", {{"bulb", nullptr}}}}, "/scene", {});
+    EXPECT_EQ(changed["lights"].size(), 2u);
+    EXPECT_EQ(changed["lights"][0]["type"], "spot");
+    try {
+        gltfSceneWithOverrides(g, {{"lights", {{"lamp", nullptr}}}}, "/scene", {});
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.path(), "/scene/lights/lamp");
+        EXPECT_EQ(e.message(), "no light of that name in the file; its lights: bulb");
+    }
     // In the scene: 683 cd of colour (1, 0.5, 0.25) is 1 W/sr in red (683 lm/W).
     SceneOptions options;
     options.embedded = g.embedded;
