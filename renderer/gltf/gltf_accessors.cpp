@@ -170,9 +170,6 @@ const tinygltf::Accessor& checkedType(const tinygltf::Model& m, int index, Acces
         a.type == rule.type && std::find(rule.componentTypes.begin(), rule.componentTypes.end(),
                                          a.componentType) != rule.componentTypes.end();
     if (!allowed) errors.fail(at(index) + rule.what + ", not " + typeName(a));
-    if (use == AccessorUse::Indices && a.count % 3 != 0)
-        errors.fail(at(index) + std::to_string(a.count) +
-                    " indices are not whole triangles (a multiple of 3)");
     return a;
 }
 

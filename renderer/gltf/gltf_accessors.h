@@ -19,7 +19,7 @@ enum class AccessorUse {
     Positions,  ///< VEC3: FLOAT; BYTE, UNSIGNED_BYTE, SHORT, UNSIGNED_SHORT (quantized)
     Normals,    ///< VEC3: FLOAT; normalized BYTE, SHORT (quantized)
     Texcoords,  ///< VEC2: FLOAT; UNSIGNED_BYTE, UNSIGNED_SHORT, BYTE, SHORT
-    Indices,    ///< SCALAR: UNSIGNED_BYTE, UNSIGNED_SHORT, UNSIGNED_INT; whole triangles
+    Indices,    ///< SCALAR: UNSIGNED_BYTE, UNSIGNED_SHORT, UNSIGNED_INT
 };
 
 /// Checks that the accessor suits `use` and that all its bytes lie inside its bufferView, and the
@@ -42,9 +42,10 @@ std::vector<Vec3> readVec3s(const tinygltf::Model& model, int accessor, Accessor
 std::vector<Vec2> readTexcoords(const tinygltf::Model& model, int accessor,
                                 const MeshErrors& errors);
 
-/// A primitive's indices: SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, a multiple of 3
-/// of them, each < vertexCount ("accessor 3: index 812 is out of range (POSITION has 507
-/// vertices)").
+/// A primitive's indices: SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, each <
+/// vertexCount
+/// ("accessor 3: index 812 is out of range (POSITION has 507
+/// vertices)"). Whole triangles are the caller's check: strips and fans take any count.
 std::vector<uint32_t> readIndices(const tinygltf::Model& model, int accessor, size_t vertexCount,
                                   const MeshErrors& errors);
 

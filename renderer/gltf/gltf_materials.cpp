@@ -19,18 +19,15 @@ double degrees(double radians) {
     return radians * 180.0 / 3.14159265358979323846;
 }
 
-// The file extension OpenImageIO picks a reader by.
-std::string extensionOf(const Json& image) {
-    const std::string type = image.value("mimeType", std::string());
-    if (type == "image/png") return ".png";
-    if (type == "image/jpeg") return ".jpg";
-    if (type == "image/webp") return ".webp";
-    const std::string uri = image.value("uri", std::string());
-    const size_t dot = uri.rfind('.');
-    if (dot != std::string::npos && uri.size() - dot <= 5 &&
-        uri.find('/', dot) == std::string::npos)
-        return uri.substr(dot);
-    return ".png";
+// The file extension OpenImageIO picks a reader by, from the image's first bytes: glTF's images
+// are PNG and JPEG (WebP through an extension); anything else is refused rather than handed to
+// whichever of OpenImageIO's readers a URI's extension names.
+const char* extensionOf(std::string_view bytes) {
+    if (bytes.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8)) return ".png";
+    if (bytes.substr(0, 3) == std::string_view("\xFF\xD8\xFF", 3)) return ".jpg";
+    if (bytes.size() >= 12 && bytes.substr(0, 4) == "RIFF" && bytes.substr(8, 4) == "WEBP")
+        return ".webp";
+    return nullptr;
 }
 
 }  // namespace
@@ -57,12 +54,14 @@ std::string GltfMaterials::use(int index) {
     } else {
         const Json& m = all[size_t(index)];
         if (!m.is_object()) values_.fail("material " + std::to_string(index) + " is not an object");
-        const std::string at =
-            gltfObjectName("material", size_t(index), m.value("name", std::string()));
+        const std::string at = gltfObjectName("material", size_t(index), textOf(m, "name"));
         material = translate(m, at);
-        name = m.value("name", std::string());
+        name = textOf(m, "name");
         if (name.empty() || name == "default" || materials.contains(name))
             name = "material " + std::to_string(index);
+        // "material 3" may be another material's own name: number on until the name is free.
+        for (int n = 2; materials.contains(name); ++n)
+            name = "material " + std::to_string(index) + " (" + std::to_string(n) + ")";
     }
     materials[name] = std::move(material);
     names_[index] = name;
@@ -95,7 +94,7 @@ Json GltfMaterials::translate(const Json& m, const std::string& at) {
 
     const Json& extensions = values_.object(m, "extensions", at);
     const Json& strength = values_.object(extensions, "KHR_materials_emissive_strength", at);
-    const double emissiveStrength = values_.number(strength, "emissiveStrength", 1.0, 0.0, kInf,
+    const double emissiveStrength = values_.number(strength, "emissiveStrength", 1.0, 0.0, 1e30,
                                                    at + ": KHR_materials_emissive_strength");
     const std::vector<double> emissive =
         values_.numbers(m, "emissiveFactor", 3, {0, 0, 0}, 0.0, 1.0, at);
@@ -150,8 +149,7 @@ Json GltfMaterials::textureSlot(const Json& info, const std::string& at, bool no
     const int index = values_.index(info, "index", all.size(), at);
     if (index < 0) values_.fail(at + ": has no index");
     const Json& texture = all[size_t(index)];
-    const std::string textureAt = gltfObjectName(
-        "texture", size_t(index), texture.is_object() ? texture.value("name", "") : "");
+    const std::string textureAt = gltfObjectName("texture", size_t(index), textOf(texture, "name"));
     if (!texture.is_object()) values_.fail(textureAt + " is not an object");
     const Json& images = values_.array(file_.doc, "images", "the file");
     const int source = values_.index(texture, "source", images.size(), textureAt);
@@ -163,17 +161,17 @@ Json GltfMaterials::textureSlot(const Json& info, const std::string& at, bool no
     }
     Json out{{"embedded",
               embeddedImage(source, gltfObjectName("image", size_t(source),
-                                                   images[size_t(source)].value("name", "")))}};
+                                                   textOf(images[size_t(source)], "name")))}};
     int texCoord = int(values_.number(info, "texCoord", 0, 0, 16, at));
     const Json& transform =
         values_.object(values_.object(info, "extensions", at), "KHR_texture_transform", at);
     if (!transform.empty()) {
         const std::string tAt = at + ": KHR_texture_transform";
         const std::vector<double> offset =
-            values_.numbers(transform, "offset", 2, {0, 0}, -kInf, kInf, tAt);
+            values_.numbers(transform, "offset", 2, {0, 0}, -1e30, 1e30, tAt);
         const std::vector<double> scale =
-            values_.numbers(transform, "scale", 2, {1, 1}, -kInf, kInf, tAt);
-        const double rotation = values_.number(transform, "rotation", 0.0, -kInf, kInf, tAt);
+            values_.numbers(transform, "scale", 2, {1, 1}, -1e30, 1e30, tAt);
+        const double rotation = values_.number(transform, "rotation", 0.0, -1e30, 1e30, tAt);
         out["transform"] = {{"offset", offset}, {"scale", scale}, {"rotation", degrees(rotation)}};
         texCoord = int(values_.number(transform, "texCoord", texCoord, 0, 16, tAt));
     }
@@ -183,12 +181,15 @@ Json GltfMaterials::textureSlot(const Json& info, const std::string& at, bool no
     const Json& samplers = values_.array(file_.doc, "samplers", "the file");
     if (const int s = values_.index(texture, "sampler", samplers.size(), textureAt); s >= 0) {
         const Json& sampler = samplers[size_t(s)];
-        for (const char* wrap : {"wrapS", "wrapT"})
-            if (sampler.is_object() && sampler.value(wrap, kRepeat) != kRepeat)
-                warn(gltfObjectName("sampler", size_t(s), sampler.value("name", "")) + ": " + wrap +
-                     " " + std::to_string(sampler.value(wrap, kRepeat)) + " is read as REPEAT");
+        for (const char* wrap : {"wrapS", "wrapT"}) {
+            const Json mode =
+                sampler.is_object() ? sampler.value(wrap, Json(kRepeat)) : Json(kRepeat);
+            if (mode != Json(kRepeat))
+                warn(gltfObjectName("sampler", size_t(s), textOf(sampler, "name")) + ": " + wrap +
+                     " " + mode.dump().substr(0, 20) + " is read as REPEAT");
+        }
     }
-    if (normal) out["scale"] = values_.number(info, "scale", 1.0, 0.0, kInf, at);
+    if (normal) out["scale"] = values_.number(info, "scale", 1.0, 0.0, 1e30, at);
     return out;
 }
 
@@ -196,8 +197,10 @@ int GltfMaterials::embeddedImage(int image, const std::string& at) {
     if (auto it = embeddedImages_.find(image); it != embeddedImages_.end()) return it->second;
     const Json& json = file_.doc.at("images").at(size_t(image));
     EmbeddedData::Image out;
-    out.name = at + extensionOf(json);
     out.bytes = std::string(imageBytes(file_.model, image, values_.errors()));
+    const char* extension = extensionOf(out.bytes);
+    if (!extension) values_.fail(at + ": not a PNG, JPEG or WebP image");
+    out.name = at + extension;
     ImageSize size;
     try {
         size = readImageSize(out.bytes, out.name, options_.maxPixels);
@@ -205,8 +208,8 @@ int GltfMaterials::embeddedImage(int image, const std::string& at) {
         values_.fail(at + ": " + e.what());
     }
     textures.push_back({{"image", image},
-                        {"name", json.value("name", "")},
-                        {"mime_type", json.value("mimeType", "")},
+                        {"name", textOf(json, "name")},
+                        {"mime_type", textOf(json, "mimeType")},
                         {"width", size.width},
                         {"height", size.height},
                         {"bytes", out.bytes.size()}});

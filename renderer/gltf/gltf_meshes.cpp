@@ -64,6 +64,8 @@ uint64_t triangleCount(uint64_t corners, int mode) {
 GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& nodes,
                     const MeshErrors& errors) {
     GltfDraws out;
+    constexpr size_t kSkippedListed = 8;
+    size_t skipped = 0;
     for (const NodeInstance& instance : nodes) {
         const int meshIndex = m.nodes[instance.node].mesh;
         if (meshIndex < 0) continue;
@@ -77,10 +79,16 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
             const std::string at = primitiveName(m, size_t(meshIndex), p) + ": ";
             const int mode = modeOf(prim);
             if (!isTriangles(mode)) {
-                out.skipped.push_back(at + "mode " + std::to_string(mode) + " (" + modeName(mode) +
-                                      ") is not drawn; only triangles are");
+                // One line for the first few; then a count (a file may instance thousands).
+                if (++skipped <= kSkippedListed)
+                    out.skipped.push_back(at + "mode " + std::to_string(mode) + " (" +
+                                          modeName(mode) + ") is not drawn; only triangles are");
                 continue;
             }
+            if (out.draws.size() >= kMaxGlbObjects)
+                errors.fail(gltfObjectName("node", instance.node, m.nodes[instance.node].name) +
+                            ": the nodes draw more than " + std::to_string(kMaxGlbObjects) +
+                            " primitives, the most a glTF file may draw");
             const int position = attribute(prim, "POSITION");
             if (position < 0) errors.fail(at + "has no POSITION attribute");
             GltfDraw draw{instance, size_t(meshIndex), p, prim.material};
@@ -102,8 +110,13 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
             const uint64_t corners =
                 prim.indices >= 0 ? count(prim.indices, AccessorUse::Indices) : draw.vertices;
             if (mode == TINYGLTF_MODE_TRIANGLES && corners % 3 != 0)
-                errors.fail(at + std::to_string(corners) +
-                            " unindexed vertices are not whole triangles (a multiple of 3)");
+                errors.fail(prim.indices >= 0
+                                ? "accessor " + std::to_string(prim.indices) + ": " +
+                                      std::to_string(corners) +
+                                      " indices are not whole triangles (a multiple of 3)"
+                                : at + std::to_string(corners) +
+                                      " unindexed vertices are not whole triangles (a multiple "
+                                      "of 3)");
             draw.triangles = triangleCount(corners, mode);
             const int normal = attribute(prim, "NORMAL"), uv = attribute(prim, "TEXCOORD_0");
             for (auto [accessor, use] :
@@ -116,9 +129,12 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
             }
             draw.normals = normal >= 0;
             draw.texcoords = uv >= 0;
-            out.vertices += draw.vertices;
-            out.triangles += draw.triangles;
-            if (out.vertices + out.triangles > kMaxGlbElements)
+            // Each count is held to the room left before it is added: none can wrap the sum.
+            const uint64_t room = kMaxGlbElements - (out.vertices + out.triangles);
+            const bool fits = draw.vertices <= room && draw.triangles <= room - draw.vertices;
+            out.vertices += fits ? draw.vertices : 0;
+            out.triangles += fits ? draw.triangles : 0;
+            if (!fits)
                 errors.fail(gltfObjectName("node", instance.node, m.nodes[instance.node].name) +
                             ": the nodes' meshes make more than " +
                             std::to_string(kMaxGlbElements) +
@@ -126,6 +142,9 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
             out.draws.push_back(draw);
         }
     }
+    if (skipped > kSkippedListed)
+        out.skipped.push_back("and " + std::to_string(skipped - kSkippedListed) +
+                              " more primitives of points or lines, not drawn");
     return out;
 }
 

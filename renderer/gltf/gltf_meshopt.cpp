@@ -2,6 +2,8 @@
 
 #include <meshoptimizer.h>
 
+#include "gltf/gltf_values.h"
+
 #include <cstdint>
 #include <vector>
 
@@ -28,7 +30,7 @@ uint64_t unsignedField(const Json& o, const char* key, uint64_t fallback, const 
 
 bool isMeshoptFallback(const Json& buffer) {
     const Json* ext = meshoptOf(buffer);
-    return ext && ext->is_object() && ext->value("fallback", false) == true;
+    return ext && ext->is_object() && ext->value("fallback", Json(false)) == Json(true);
 }
 
 bool decodeMeshopt(Json& doc, const std::function<std::string_view(size_t)>& source,
@@ -54,8 +56,8 @@ bool decodeMeshopt(Json& doc, const std::function<std::string_view(size_t)>& sou
         const uint64_t length = unsignedField(*ext, "byteLength", UINT64_MAX, at, errors);
         const uint64_t stride = unsignedField(*ext, "byteStride", 0, at, errors);
         const uint64_t count = unsignedField(*ext, "count", UINT64_MAX, at, errors);
-        const std::string mode = ext->value("mode", "");
-        const std::string filter = ext->value("filter", "NONE");
+        const std::string mode = textOf(*ext, "mode");
+        const std::string filter = textOf(*ext, "filter", "NONE");
         const std::string_view bytes = source(size_t(buffer));
         if (length == UINT64_MAX || count == UINT64_MAX)
             errors.fail(at + ": byteLength and count are required");
@@ -103,12 +105,14 @@ bool decodeMeshopt(Json& doc, const std::function<std::string_view(size_t)>& sou
     }
     if (rewrites.empty()) return false;
     // The decoded buffer takes the first fallback buffer's place, or comes last; the other
-    // fallback buffers read it too (they hold no data a view may still name).
+    // fallback buffers become empty (they hold no data, and the decoded bytes are read once).
     size_t target = buffers->size();
     for (size_t b = 0; b < buffers->size(); ++b)
         if (isMeshoptFallback((*buffers)[b])) {
-            if (target == buffers->size()) target = b;
-            (*buffers)[b] = {{"uri", kMeshoptDecodedUri}, {"byteLength", decoded.size()}};
+            const bool first = target == buffers->size();
+            if (first) target = b;
+            (*buffers)[b] = {{"uri", first ? kMeshoptDecodedUri : kMeshoptEmptyUri},
+                             {"byteLength", first ? decoded.size() : 0}};
         }
     if (target == buffers->size())
         buffers->push_back({{"uri", kMeshoptDecodedUri}, {"byteLength", decoded.size()}});

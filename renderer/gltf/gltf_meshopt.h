@@ -17,6 +17,8 @@ namespace caustic {
 /// The name the decoded buffer is read under (no file of a model may have it: it is refused
 /// before the model's own files are read, gltf_model.cpp).
 inline constexpr const char* kMeshoptDecodedUri = "caustic:meshopt-decoded";
+/// The name an emptied fallback buffer is read under: no bytes.
+inline constexpr const char* kMeshoptEmptyUri = "caustic:meshopt-empty";
 /// The most bytes the compressed views of one file may decode to.
 inline constexpr size_t kMaxMeshoptBytes = size_t(512) << 20;
 

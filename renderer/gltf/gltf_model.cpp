@@ -1,6 +1,7 @@
 #include "gltf/gltf_model.h"
 
 #include "gltf/gltf_meshopt.h"
+#include "gltf/gltf_values.h"
 
 #include <algorithm>
 #include <cctype>
@@ -128,15 +129,20 @@ tinygltf::Model load(std::string_view bytes, bool binary, const GltfFileReader* 
 // view, meshopt-compressed views decoded into `decoded`. Returns whether `doc` changed.
 bool prepareForTinygltf(Json& doc, const std::function<std::string_view(size_t)>& buffer,
                         std::string& decoded, const MeshErrors& errors) {
-    const bool draco = viewsForDracoIndices(doc);
-    const bool meshopt = decodeMeshopt(doc, buffer, decoded, errors);
-    return draco || meshopt;
+    try {
+        const bool draco = viewsForDracoIndices(doc);
+        const bool meshopt = decodeMeshopt(doc, buffer, decoded, errors);
+        return draco || meshopt;
+    } catch (const nlohmann::json::exception& e) {
+        errors.fail(std::string("the glTF JSON: ") + e.what());
+    }
 }
 
 // The model's files, and the meshopt-decoded buffer under its reserved name.
 GltfFileReader withDecoded(const GltfFileReader* files, const std::string& decoded) {
     return [files, &decoded](const std::string& uri) -> std::optional<std::string> {
         if (uri == kMeshoptDecodedUri) return decoded;
+        if (uri == kMeshoptEmptyUri) return std::string();
         return files ? (*files)(uri) : std::nullopt;
     };
 }
@@ -162,9 +168,8 @@ GltfFile loadGltfModel(std::string_view json, const GltfFileReader& files,
     for (const char* kind : {"buffers", "images"})
         if (auto list = doc.find(kind); list != doc.end() && list->is_array())
             for (const Json& o : *list)
-                if (o.is_object() && o.value("uri", Json()) == kMeshoptDecodedUri)
-                    errors.fail(std::string(kind) + ": the uri \"" + kMeshoptDecodedUri +
-                                "\" is reserved");
+                if (percentDecoded(textOf(o, "uri")).rfind("caustic:", 0) == 0)
+                    errors.fail(std::string(kind) + ": a uri starting \"caustic:\" is reserved");
     Json patched = doc;
     std::string decoded;
     std::vector<std::optional<std::string>> sources;
@@ -172,7 +177,7 @@ GltfFile loadGltfModel(std::string_view json, const GltfFileReader& files,
         sources.resize(std::max(sources.size(), b + 1));
         if (!sources[b]) {
             const Json& o = patched.at("buffers").at(b);
-            const std::string uri = o.is_object() ? o.value("uri", "") : "";
+            const std::string uri = percentDecoded(textOf(o, "uri"));  // as tinygltf asks
             sources[b] = uri.empty() ? std::string() : files(uri).value_or(std::string());
         }
         return *sources[b];

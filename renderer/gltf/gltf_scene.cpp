@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "core/error.h"
+#include "gltf/gltf_accessors.h"
+#include "gltf/gltf_draco.h"
 #include "gltf/gltf_materials.h"
 #include "gltf/gltf_meshes.h"
 #include "gltf/gltf_nodes.h"
@@ -17,6 +19,8 @@ namespace {
 
 constexpr double kPiDouble = 3.14159265358979323846;  // core/math.h's kPi is a float
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// The largest value a float holds: what a scene may carry.
+constexpr double kFloatMax = 3.0e38;
 
 // The automatic camera's defaults: the front of an asset faces +z (glTF 2.0, "Coordinate System
 // and Units"), seen from a little to its right and above.
@@ -116,24 +120,43 @@ private:
                                {"material", material}});
             out_.embedded->meshes.push_back(std::move(mesh));
         }
-        out_.boundsMin = lo;
-        out_.boundsMax = hi;
+        // No finite point at all (every position off a float's range): a box at the origin.
+        out_.boundsMin = lo.x <= hi.x ? lo : glm::vec3(0.0f);
+        out_.boundsMax = lo.x <= hi.x ? hi : glm::vec3(0.0f);
     }
 
-    // The world box of a draw's POSITION min and max (glTF requires them), its 8 corners
-    // transformed; nothing when the file leaves them out.
+    // The world box of a draw's POSITION min and max (glTF requires them; normalized integers
+    // scaled as their values are), its 8 corners transformed; without them, its positions read.
     void accessorBounds(const GltfDraw& draw, glm::vec3& lo, glm::vec3& hi) const {
         const tinygltf::Primitive& prim = file_.model.meshes[draw.mesh].primitives[draw.primitive];
-        const tinygltf::Accessor& a = file_.model.accessors[size_t(prim.attributes.at("POSITION"))];
-        if (a.minValues.size() != 3 || a.maxValues.size() != 3) return;
+        const int position = prim.attributes.at("POSITION");
+        const tinygltf::Accessor& a = file_.model.accessors[size_t(position)];
+        auto add = [&](const glm::dvec3& p) {
+            const glm::vec3 w(draw.instance.world * glm::dvec4(p, 1.0));
+            if (!isFinite(w)) return;
+            lo = glm::min(lo, w);
+            hi = glm::max(hi, w);
+        };
+        if (a.minValues.size() != 3 || a.maxValues.size() != 3) {
+            if (!dracoExtension(prim))
+                for (const Vec3& p :
+                     readVec3s(file_.model, position, AccessorUse::Positions, errors_))
+                    add(glm::dvec3(p));
+            return;
+        }
+        double scale = 1.0;  // glTF 2.0, "Animations": the normalized integers' divisors
+        if (a.normalized)
+            scale = a.componentType == TINYGLTF_COMPONENT_TYPE_BYTE             ? 1.0 / 127
+                    : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE  ? 1.0 / 255
+                    : a.componentType == TINYGLTF_COMPONENT_TYPE_SHORT          ? 1.0 / 32767
+                    : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 1.0 / 65535
+                                                                                : 1.0;
         for (int corner = 0; corner < 8; ++corner) {
             glm::dvec3 p;
             for (int i = 0; i < 3; ++i)
-                p[i] = (corner >> i & 1) ? a.maxValues[size_t(i)] : a.minValues[size_t(i)];
-            const glm::vec3 w(draw.instance.world * glm::dvec4(p, 1.0));
-            if (!isFinite(w)) continue;
-            lo = glm::min(lo, w);
-            hi = glm::max(hi, w);
+                p[i] =
+                    scale * ((corner >> i & 1) ? a.maxValues[size_t(i)] : a.minValues[size_t(i)]);
+            add(p);
         }
     }
 
@@ -141,6 +164,13 @@ private:
     struct Pose {
         glm::dvec3 position, forward, up;
     };
+    // Every coordinate finite and within a float's range (positions are stored as floats).
+    static bool finitePose(const Pose& p) {
+        for (const glm::dvec3& v : {p.position, p.forward, p.up})
+            for (int i = 0; i < 3; ++i)
+                if (!(std::abs(v[i]) <= kFloatMax)) return false;
+        return true;
+    }
     static Pose poseOf(const glm::dmat4& world) {
         const glm::dmat3 m(world);
         return {glm::dvec3(world[3]), glm::normalize(m * glm::dvec3(0, 0, -1)),
@@ -158,7 +188,7 @@ private:
                 errors_.fail(nodeAt + ": camera " + std::to_string(c) + " does not exist (" +
                              std::to_string(cameras.size()) + " cameras)");
             const Json& camera = cameras[size_t(c)];
-            const std::string name = camera.is_object() ? camera.value("name", "") : "";
+            const std::string name = textOf(camera, "name");
             const std::string at = gltfObjectName("camera", size_t(c), name);
             const std::string type = values_.string(camera, "type", "", at);
             if (type != "perspective") {
@@ -173,8 +203,7 @@ private:
             const double aspect =
                 values_.number(p, "aspectRatio", 0.0, 1e-6, 1e6, at + ": perspective");
             const Pose pose = poseOf(n.world);
-            if (!std::isfinite(pose.forward.x) || !std::isfinite(pose.up.x) ||
-                !std::isfinite(pose.position.x))
+            if (!finitePose(pose))
                 errors_.fail(nodeAt + ": its transform gives camera " + std::to_string(c) +
                              " no direction");
             const auto [width, height] = sizeFor(aspect, options_.width);
@@ -207,12 +236,11 @@ private:
                 values_.index(ext, "light", list.size(), nodeAt + ": KHR_lights_punctual");
             if (l < 0) continue;
             const Json& light = list[size_t(l)];
-            const std::string at = gltfObjectName("light", size_t(l),
-                                                  light.is_object() ? light.value("name", "") : "");
+            const std::string at = gltfObjectName("light", size_t(l), textOf(light, "name"));
             const std::string type = values_.string(light, "type", "", at);
             const std::vector<double> color =
-                values_.numbers(light, "color", 3, {1, 1, 1}, 0.0, kInf, at);
-            const double intensity = values_.number(light, "intensity", 1.0, 0.0, kInf, at);
+                values_.numbers(light, "color", 3, {1, 1, 1}, 0.0, kFloatMax, at);
+            const double intensity = values_.number(light, "intensity", 1.0, 0.0, kFloatMax, at);
             const Pose pose = poseOf(n.world);
             Json caustic{{"color", color}};
             if (type == "directional") {
@@ -241,10 +269,10 @@ private:
                 warn(at +
                      ": range is not applied (the light falls off by the inverse square "
                      "law alone)");
-            if (!std::isfinite(pose.forward.x) || !std::isfinite(pose.position.x))
+            if (!finitePose(pose))
                 errors_.fail(nodeAt + ": its transform gives light " + std::to_string(l) +
                              " no direction");
-            lightNames_.push_back(light.is_object() ? light.value("name", "") : "");
+            lightNames_.push_back(textOf(light, "name"));
             lightTypes_.push_back(type);
             out.push_back(std::move(caustic));
         }
@@ -255,7 +283,7 @@ private:
                    size_t lights) {
         Json names = Json::array();
         for (const Json& m : values_.array(doc_, "materials", "the file"))
-            names.push_back(m.is_object() ? m.value("name", "") : "");
+            names.push_back(textOf(m, "name"));
         Json lightList = Json::array();
         for (size_t i = 0; i < lights; ++i)
             lightList.push_back({{"name", lightNames_[i]}, {"type", lightTypes_[i]}});
@@ -269,7 +297,7 @@ private:
             return a;
         };
         out_.summary = {
-            {"generator", values_.object(doc_, "asset", "the file").value("generator", "")},
+            {"generator", textOf(values_.object(doc_, "asset", "the file"), "generator")},
             {"nodes", nodes.size()},
             {"meshes", file_.model.meshes.size()},
             {"draws", draws_.draws.size()},
@@ -320,7 +348,7 @@ void changeLights(Json& scene, const Json& summary, const Json& request, const s
             throw InputError(path, "expected an object of fields to change, or null");
         bool found = false;
         for (size_t i = 0; i < named.size() && i < lights.size(); ++i) {
-            if (named[i].value("name", "") != it.key()) continue;
+            if (textOf(named[i], "name") != it.key()) continue;
             found = true;
             if (it.value().is_null())
                 removed[i] = true;
@@ -330,7 +358,7 @@ void changeLights(Json& scene, const Json& summary, const Json& request, const s
         if (!found) {
             std::string known;
             for (const Json& n : named)
-                if (!n.value("name", "").empty()) appendListed(known, n.value("name", ""));
+                if (!textOf(n, "name").empty()) appendListed(known, textOf(n, "name"));
             throw InputError(path, "no light of that name in the file; its lights: " +
                                        (known.empty() ? std::string("none named") : known));
         }
@@ -356,7 +384,12 @@ const std::vector<std::string>& supportedGltfExtensions() {
 
 GltfScene importGltf(const GltfFile& file, const GltfImportOptions& options,
                      const MeshErrors& errors) {
-    return Importer(file, options, errors).run();
+    try {
+        return Importer(file, options, errors).run();
+    } catch (const nlohmann::json::exception& e) {
+        // A value of an unexpected type somewhere the importer reads without a check of its own.
+        errors.fail(std::string("the glTF JSON: ") + e.what());
+    }
 }
 
 Json autoCamera(const Vec3& boundsMin, const Vec3& boundsMax, double azimuth, double elevation,

@@ -17,6 +17,25 @@ std::string shown(double v) {
 
 }  // namespace
 
+std::string percentDecoded(const std::string& uri) {
+    std::string out;
+    auto hex = [](char c) {
+        return c >= '0' && c <= '9'   ? c - '0'
+               : c >= 'a' && c <= 'f' ? c - 'a' + 10
+               : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                      : -1;
+    };
+    for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+            out += char(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
 const Json& GltfValues::object(const Json& o, const std::string& key, const std::string& at) const {
     auto it = o.find(key);
     if (it == o.end()) return kEmptyObject;

@@ -10,6 +10,17 @@
 
 namespace caustic {
 
+/// o[key] when o is an object and that is a string; `fallback` otherwise (names, MIME types and
+/// URIs are read this way where a wrong type only loses information, never as an error).
+inline std::string textOf(const Json& o, const char* key, const std::string& fallback = "") {
+    if (!o.is_object()) return fallback;
+    auto it = o.find(key);
+    return it != o.end() && it->is_string() ? it->get<std::string>() : fallback;
+}
+
+/// RFC 3986 percent-decoding, as tinygltf decodes a URI before it asks for the file.
+std::string percentDecoded(const std::string& uri);
+
 class GltfValues {
 public:
     explicit GltfValues(const MeshErrors& errors) : errors_(errors) {}

@@ -46,26 +46,6 @@ std::string folderOf(const std::string& name) {
     return slash == std::string::npos ? std::string() : name.substr(0, slash + 1);
 }
 
-// glTF URIs are percent-encoded (RFC 3986); a file name in the archive is not.
-std::string percentDecoded(const std::string& uri) {
-    std::string out;
-    for (size_t i = 0; i < uri.size(); ++i) {
-        auto hex = [](char c) {
-            return c >= '0' && c <= '9'   ? c - '0'
-                   : c >= 'a' && c <= 'f' ? c - 'a' + 10
-                   : c >= 'A' && c <= 'F' ? c - 'A' + 10
-                                          : -1;
-        };
-        if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
-            out += char(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
-            i += 2;
-        } else {
-            out += uri[i];
-        }
-    }
-    return out;
-}
-
 class ZipReader {
 public:
     ZipReader(std::string_view bytes, const ZipLimits& limits, const MeshErrors& errors)
@@ -188,7 +168,7 @@ GltfFile loadGltfZip(std::string_view bytes, const ZipLimits& limits, const Mesh
     const std::string folder = folderOf(gltf);
     const std::string json = *zip.read(gltf);
     GltfFileReader files = [&](const std::string& uri) -> std::optional<std::string> {
-        const std::string name = percentDecoded(uri);
+        const std::string& name = uri;  // tinygltf percent-decodes a URI before asking
         if (!confined(name) || name.back() == '/')
             errors.fail("the URI \"" + uri.substr(0, 200) +
                         "\" leaves the .gltf's folder in the archive (or is absolute)");

@@ -506,6 +506,40 @@ TEST(GltfScene, HostileFilesAreErrorsNamingTheObject) {
     }
 }
 
+TEST(GltfScene, OddButValidFilesImport) {
+    // An indexed strip of 4 indices: 2 triangles (only mode 4 needs a multiple of 3).
+    GlbModel strip = squareGlb();
+    strip.gltf["meshes"][0]["primitives"][0]["mode"] = 5;
+    strip.gltf["accessors"][1]["count"] = 4;
+    EXPECT_EQ(imported(strip).embedded->meshes[0].mesh.triangles.size(), 2u);
+    // Names of the wrong type are no names (tinygltf ignores them too), not a failure.
+    GlbModel named = squareGlb();
+    named.gltf["asset"]["generator"] = 7;
+    named.gltf["materials"] = {{{"name", 5}}, {{"name", "material 0"}}};
+    named.gltf["meshes"][0]["primitives"][0]["material"] = 1;  // used first: takes "material 0"
+    named.gltf["meshes"].push_back(named.gltf["meshes"][0]);
+    named.gltf["meshes"][1]["primitives"][0]["material"] = 0;
+    named.gltf["nodes"][1]["mesh"] = 1;
+    GltfScene g = imported(named);
+    EXPECT_EQ(g.summary["generator"], "");
+    EXPECT_EQ(g.scene["materials"].size(), 2u);  // neither overwrote the other
+    EXPECT_TRUE(g.scene["materials"].contains("material 0"));
+    EXPECT_TRUE(g.scene["materials"].contains("material 0 (2)"));
+    // Many point primitives: a few listed, then a count.
+    GlbModel points = squareGlb();
+    Json prim = points.gltf["meshes"][0]["primitives"][0];
+    prim["mode"] = 0;
+    for (int i = 0; i < 20; ++i) points.gltf["meshes"][0]["primitives"].push_back(prim);
+    const GltfScene p = imported(points);
+    EXPECT_EQ(p.warnings.size(), 9u);
+    EXPECT_EQ(p.warnings.back(), "and 32 more primitives of points or lines, not drawn");
+}
+
+TEST(GltfScene, ImagesMustBePngJpegOrWebp) {
+    GlbModel m = texturedSquare("BM not really an image but long enough");
+    expectImportError(m, "image 0 (checker): not a PNG, JPEG or WebP image");
+}
+
 TEST(GltfScene, EmbeddedNeedsAModel) {
     Json doc = {{"camera", {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}}},
                 {"materials", {{"m", {{"type", "diffuse"}}}}},
