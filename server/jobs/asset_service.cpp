@@ -111,17 +111,31 @@ Json AssetService::modelSummary(const std::string& bytes, MeshFormat format,
     return importGltf(loadGltfUpload(bytes, format, errors), options, errors).summary;
 }
 
+void AssetService::keep(const std::string& id, const Json& model) {
+    std::lock_guard lock(modelsMutex_);
+    if (models_.size() >= kKeptModels) models_.erase(models_.begin());
+    models_[id] = model;
+}
+
 Json AssetService::model(const Asset& asset) {
     const std::optional<MeshFormat> format = meshFormatNamed(asset.format);
     if (!format || !isGltfFormat(*format)) return nullptr;
+    {
+        std::lock_guard lock(modelsMutex_);
+        if (auto it = models_.find(asset.id); it != models_.end()) return it->second;
+    }
     std::shared_ptr<const std::string> bytes = store_.assetBytes(asset.id);
     if (!bytes) return nullptr;
+    Json model;
     try {
-        return modelSummary(*bytes, *format, asset.name.empty() ? "asset " + asset.id : asset.name);
+        model =
+            modelSummary(*bytes, *format, asset.name.empty() ? "asset " + asset.id : asset.name);
     } catch (const InputError& e) {
         // Stored under other limits (a larger --max-pixels): it imported then, not now.
-        return Json{{"error", e.message()}};
+        model = Json{{"error", e.message()}};
     }
+    keep(asset.id, model);
+    return model;
 }
 
 std::optional<Upload> AssetService::load(MeshFormat format, const std::string& name,
@@ -219,12 +233,17 @@ Upload AssetService::upload(std::string_view mediaType, const std::string& name,
     Upload u;
     u.outcome = stored == AssetInsert::Inserted ? Outcome::Created : Outcome::Existing;
     u.asset = asset;
+    if (!model.is_null()) keep(asset.id, model);
     u.model = std::move(model);
     return u;
 }
 
 AssetRemoval AssetService::remove(const std::string& id) {
     AssetRemoval removed = store_.removeAsset(id);
+    if (removed == AssetRemoval::Removed) {
+        std::lock_guard lock(modelsMutex_);
+        models_.erase(id);
+    }
     // A deleted asset frees its space at once: a user clearing room on a full disk sees it.
     if (removed == AssetRemoval::Removed) {
         try {

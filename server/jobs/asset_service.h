@@ -6,7 +6,9 @@
 #pragma once
 
 #include <atomic>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -64,7 +66,8 @@ public:
     std::optional<Asset> get(const std::string& id) { return store_.getAsset(id); }
     /// What a glTF asset (.glb or .zip) holds as a scene (gltf/gltf_scene.h's summary: meshes,
     /// triangles, materials, textures with their sizes, cameras, lights, extensions, warnings);
-    /// null for an OBJ. Reads the file from the store.
+    /// null for an OBJ. Kept from the upload or the first call (the id is the content's hash, so
+    /// it never changes), else read from the store and imported counting only.
     Json model(const Asset& asset);
     AssetPage list(int limit, int64_t before) { return store_.listAssets(limit, before); }
     /// Removes an asset no queued or running job uses, and gives its space back to the disk.
@@ -81,9 +84,15 @@ private:
     /// import.
     Json modelSummary(const std::string& bytes, MeshFormat format, const std::string& name) const;
 
+    /// Keeps a model's summary (at most kKeptModels of them: a GET then costs no import).
+    void keep(const std::string& id, const Json& model);
+    static constexpr size_t kKeptModels = 256;
+
     const ServerConfig& config_;
     JobStore& store_;
     std::atomic<int> inFlight_{0};
+    std::mutex modelsMutex_;
+    std::map<std::string, Json> models_;
 };
 
 /// Whether `id` has the form of an asset id: 64 lowercase hex digits.
