@@ -291,14 +291,22 @@ def build_scene(scene, args):
     bl.camera = camera(scene["camera"])
     if "environment" in scene:
         bl.world = environment_world(scene["environment"])
-    else:
+    configure_cycles(bl, args.size, args.size, args)
+    return bl
+
+
+def configure_cycles(bl, width, height, args):
+    """Cycles as the comparisons render: CPU, args.threads, a width x height 32-bit EXR, the
+    Standard view, a box filter of one pixel, no clamping, caustics on, no glossy blur, the bounce
+    limits of args.max_depth; a black world unless the scene has one."""
+    if bl.world is None:
         world = bpy.data.worlds.new("black")
         world.use_nodes = True
         world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
         bl.world = world
     r = bl.render
     r.engine = "CYCLES"
-    r.resolution_x = r.resolution_y = args.size
+    r.resolution_x, r.resolution_y = width, height
     r.resolution_percentage = 100
     r.threads_mode, r.threads = "FIXED", args.threads
     r.image_settings.file_format = "OPEN_EXR"
@@ -316,7 +324,6 @@ def build_scene(scene, args):
     bounces = args.max_depth - 1
     c.max_bounces = c.diffuse_bounces = c.glossy_bounces = bounces
     c.transmission_bounces = c.transparent_max_bounces = bounces
-    return bl
 
 
 def render_cycles(bl, spp, seed, adaptive, out):

@@ -30,12 +30,14 @@ import shlex
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import bpy
 import numpy as np
 from mathutils import Vector
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from cycles_compare import configure_cycles, read_exr, render_cycles  # noqa: E402
 
 REPO = Path(__file__).resolve().parent.parent
 MESHES = REPO / "assets/meshes"
@@ -195,46 +197,15 @@ def export(name, path):
 
 # Rendering.
 
-def read_exr(path):
-    """Linear RGB, top row first (Blender's pixel buffer starts at the bottom)."""
-    image = bpy.data.images.load(str(path))
-    image.colorspace_settings.name = "Non-Color"
-    w, h = image.size
-    pixels = np.array(image.pixels[:], dtype=np.float64).reshape(h, w, 4)[::-1, :, :3]
-    bpy.data.images.remove(image)
-    return pixels
-
-
-def render_cycles(glb, width, height, args, out):
+def render_with_cycles(glb, width, height, args, out):
+    """The file through Blender's importer into an empty scene (its world black, as the file has
+    none), rendered by Cycles as cycles_compare renders; (image, seconds)."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.import_scene.gltf(filepath=str(glb))
     bl = bpy.context.scene
     bl.camera = next(o for o in bl.objects if o.type == "CAMERA")
-    world = bpy.data.worlds.new("black")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    bl.world = world
-    r = bl.render
-    r.engine = "CYCLES"
-    r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
-    r.threads_mode, r.threads = "FIXED", args.threads
-    r.image_settings.file_format = "OPEN_EXR"
-    r.image_settings.color_depth = "32"
-    bl.view_settings.view_transform = "Standard"
-    c = bl.cycles
-    c.device = "CPU"
-    c.samples, c.seed, c.use_adaptive_sampling, c.use_denoising = args.spp, 0, False, False
-    c.pixel_filter_type, c.filter_width = "BOX", 1.0
-    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-    c.caustics_reflective = c.caustics_refractive = True
-    c.blur_glossy = 0.0
-    bounces = args.max_depth - 1  # Cycles counts bounces after the first hit
-    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = bounces
-    c.transmission_bounces = c.transparent_max_bounces = bounces
-    r.filepath = str(out)
-    t0 = time.perf_counter()
-    bpy.ops.render.render(write_still=True)
-    return read_exr(out), time.perf_counter() - t0
+    configure_cycles(bl, width, height, args)
+    return render_cycles(bl, args.spp, 0, False, out)
 
 
 def render_caustic(glb, args, out):
@@ -283,7 +254,8 @@ def main():
             export(name, glb)
             ours, our_seconds, warnings = render_caustic(glb, args, folder / f"{name}-caustic.exr")
             h, w, _ = ours.shape
-            theirs, their_seconds = render_cycles(glb, w, h, args, folder / f"{name}-cycles.exr")
+            theirs, their_seconds = render_with_cycles(glb, w, h, args,
+                                                       folder / f"{name}-cycles.exr")
             a, b = ours.reshape(-1, 3).mean(axis=0), theirs.reshape(-1, 3).mean(axis=0)
             rows.append((name, glb.stat().st_size, a, b, our_seconds, their_seconds, warnings))
             columns.append(np.concatenate([ours, theirs], axis=0))

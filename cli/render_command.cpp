@@ -10,7 +10,6 @@
 
 #include "core/error.h"
 #include "film/image_io.h"
-#include "gltf/gltf_scene.h"
 #include "gltf/scene_document.h"
 #include "progress_bar.h"
 #include "render/integrator_factory.h"
@@ -57,21 +56,17 @@ void writeStats(const fs::path& file, const RenderSettings& settings, const Rend
 // A glTF model as a scene, with the command line's overrides; its warnings and what it holds are
 // printed unless quiet.
 std::unique_ptr<Scene> loadGltfScene(const fs::path& file, const RenderOptions& options,
-                                     SceneOptions& sceneOptions) {
+                                     const SceneOptions& sceneOptions) {
     const std::string name = file.filename().string(), path;
     const MeshErrors errors{name, path};
-    GltfImportOptions importOptions;
-    importOptions.maxPixels = sceneOptions.maxPixels;
-    GltfScene imported = importGltf(loadGltfPath(file, errors), importOptions, errors);
-    Json doc = gltfSceneWithOverrides(imported, options.gltf, "", importOptions);
-    sceneOptions.embedded = imported.embedded;
-    std::unique_ptr<Scene> scene = loadScene(doc, sceneOptions);
+    Json s;
+    std::unique_ptr<Scene> scene =
+        loadModelScene(loadGltfPath(file, errors), options.gltf, sceneOptions, errors, &s);
     if (!options.quiet) {
-        for (const std::string& w : imported.warnings)
-            std::cerr << "caustic: warning: " << name << ": " << w << "\n";
-        const Json& s = imported.summary;
+        for (const Json& w : s["warnings"])
+            std::cerr << "caustic: warning: " << name << ": " << w.get<std::string>() << "\n";
         std::cerr << "caustic: " << name << ": " << s["triangles"] << " triangles in " << s["draws"]
-                  << " draws, " << doc["materials"].size() << " materials, " << s["textures"].size()
+                  << " draws, " << scene->materials.size() << " materials, " << s["textures"].size()
                   << " textures, " << s["lights"].size() << " lights; camera " << s["camera"].dump()
                   << ", environment " << s["environment"].dump() << "\n";
     }

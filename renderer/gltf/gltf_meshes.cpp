@@ -59,6 +59,22 @@ uint64_t triangleCount(uint64_t corners, int mode) {
     return corners >= 3 ? corners - 2 : 0;
 }
 
+// Appends `part` to `mesh`; an attribute one of them lacks is zero there (a zero normal is flat).
+void append(TriangleMesh& mesh, TriangleMesh part) {
+    const size_t base = mesh.positions.size(), added = part.positions.size();
+    auto join = [&](auto& into, auto& from) {
+        using V = typename std::decay_t<decltype(into)>::value_type;
+        if (into.empty() && from.empty()) return;
+        into.resize(base, V(0.0f));
+        if (from.empty()) from.resize(added, V(0.0f));
+        into.insert(into.end(), from.begin(), from.end());
+    };
+    join(mesh.normals, part.normals);
+    join(mesh.texcoords, part.texcoords);
+    mesh.positions.insert(mesh.positions.end(), part.positions.begin(), part.positions.end());
+    for (const glm::uvec3& t : part.triangles) mesh.triangles.push_back(t + uint32_t(base));
+}
+
 }  // namespace
 
 GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& nodes,
@@ -209,6 +225,18 @@ TriangleMesh readDraw(const tinygltf::Model& m, const GltfDraw& draw,
     // node's global transform reverses the winding order).
     if (glm::determinant(glm::dmat3(world)) < 0.0)
         for (glm::uvec3& t : mesh.triangles) std::swap(t.y, t.z);
+    return mesh;
+}
+
+TriangleMesh joinedMesh(const tinygltf::Model& model, const MeshTransform& transform,
+                        bool texcoords, const MeshErrors& errors) {
+    GltfDraws draws = gltfDraws(model, walkNodes(model, errors), errors);
+    TriangleMesh mesh;
+    for (const GltfDraw& draw : draws.draws)
+        append(mesh, readDraw(model, draw, transform, texcoords, errors));
+    if (mesh.triangles.empty())
+        errors.fail("has no triangles (no node of the scene has a triangle mesh)" +
+                    (draws.skipped.empty() ? std::string() : "; " + draws.skipped.front()));
     return mesh;
 }
 

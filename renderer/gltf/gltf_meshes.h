@@ -41,4 +41,10 @@ GltfDraws gltfDraws(const tinygltf::Model& model, const std::vector<NodeInstance
 TriangleMesh readDraw(const tinygltf::Model& model, const GltfDraw& draw,
                       const MeshTransform& transform, bool texcoords, const MeshErrors& errors);
 
+/// The draws of the model's default scene joined into one mesh (an uploaded model used as a mesh
+/// shape); an attribute one draw lacks is zero there (a zero normal is flat). Fails when nothing
+/// is drawn.
+TriangleMesh joinedMesh(const tinygltf::Model& model, const MeshTransform& transform,
+                        bool texcoords, const MeshErrors& errors);
+
 }  // namespace caustic

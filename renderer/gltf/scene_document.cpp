@@ -1,6 +1,7 @@
 #include "gltf/scene_document.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "core/error.h"
 #include "gltf/gltf_model.h"
@@ -26,11 +27,6 @@ std::unique_ptr<Scene> loadSceneDocument(const Json& doc, SceneOptions options, 
         throw InputError("/gltf",
                          "names a model by \"asset\" (an uploaded .glb's id) or \"file\" "
                          "(a .glb or .gltf in the assets folder), one of them");
-    GltfImportOptions importOptions;
-    importOptions.maxPixels = options.maxPixels;
-    importOptions.countOnly = options.countMeshesOnly;
-    // A size the service takes: the render's settings may set another.
-    importOptions.width = std::min(importOptions.width, options.maxResolution);
     const std::string at = asset ? "/gltf/asset" : "/gltf/file";
     const std::string name = source.string(asset ? "asset" : "file");
     std::string label = asset ? "asset " + name : name;
@@ -48,11 +44,22 @@ std::unique_ptr<Scene> loadSceneDocument(const Json& doc, SceneOptions options, 
         if (!isGltfFileName(name)) throw InputError(at, "must name a .glb or .gltf file");
         model = loadGltfPath(resolveAsset(options.assetsDir, name, at), errors);
     }
+    return loadModelScene(model, doc, std::move(options), errors, summary);
+}
+
+std::unique_ptr<Scene> loadModelScene(const GltfFile& model, const Json& request,
+                                      SceneOptions options, const MeshErrors& errors,
+                                      Json* summary) {
+    GltfImportOptions importOptions;
+    importOptions.maxPixels = options.maxPixels;
+    importOptions.countOnly = options.countMeshesOnly;
+    // A size the renderer takes: the render's settings may set another.
+    importOptions.width = std::min(importOptions.width, options.maxResolution);
     GltfScene imported = importGltf(model, importOptions, errors);
-    Json resolved = gltfSceneWithOverrides(imported, doc, "", importOptions);
+    Json resolved = gltfSceneWithOverrides(imported, request, "", importOptions);
     options.embedded = imported.embedded;
     std::unique_ptr<Scene> scene = loadScene(resolved, options);
-    if (summary) *summary = imported.summary;
+    if (summary) *summary = std::move(imported.summary);
     return scene;
 }
 

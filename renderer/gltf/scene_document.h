@@ -21,4 +21,11 @@ bool isModelDocument(const Json& doc);
 std::unique_ptr<Scene> loadSceneDocument(const Json& doc, SceneOptions options,
                                          Json* summary = nullptr);
 
+/// A model already read as a scene: imported (only counted with options.countMeshesOnly), the
+/// overrides of `request` applied (gltfSceneWithOverrides, at JSON path ""), loaded. `summary`,
+/// when given, receives the import's summary with the camera and environment used and the warnings.
+std::unique_ptr<Scene> loadModelScene(const GltfFile& model, const Json& request,
+                                      SceneOptions options, const MeshErrors& errors,
+                                      Json* summary = nullptr);
+
 }  // namespace caustic

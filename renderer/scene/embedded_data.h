@@ -3,9 +3,12 @@
 // by index.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+#include "scene/json_reader.h"
 #include "scene/mesh_counts.h"
 #include "scene/mesh_loader.h"
 
@@ -24,5 +27,22 @@ struct EmbeddedData {
     std::vector<Mesh> meshes;
     std::vector<Image> images;
 };
+
+/// The item field "embedded" of `o` names in data's `list` (`kind`: "mesh", "image"): InputError
+/// at the field's path when the scene comes from no model file or the index is out of range.
+template <typename T>
+const T& embeddedItem(JsonObject& o, const std::shared_ptr<const EmbeddedData>& data,
+                      std::vector<T> EmbeddedData::*list, const std::string& kind) {
+    const std::string at = o.pathOf("embedded");
+    if (!data)
+        throw InputError(
+            at, "names a model file's " + kind + ", and this scene comes from no model file");
+    const std::vector<T>& items = (*data).*list;
+    const int64_t index = readInteger(o.require("embedded"), at);
+    if (index < 0 || size_t(index) >= items.size())
+        throw InputError(at, "no " + kind + " " + std::to_string(index) + " in the model (it has " +
+                                 std::to_string(items.size()) + ")");
+    return items[size_t(index)];
+}
 
 }  // namespace caustic

@@ -234,18 +234,6 @@ void addMesh(TriangleMesh mesh, uint32_t material, Scene& scene) {
                                 mesh.texcoords, tangents);
 }
 
-// An imported model's mesh, "embedded": its index in SceneOptions::embedded.
-const EmbeddedData::Mesh& embeddedMesh(JsonObject& o, const SceneOptions& options) {
-    const std::string at = o.pathOf("embedded");
-    if (!options.embedded)
-        throw InputError(at, "names a model file's mesh, and this scene comes from no model file");
-    const int64_t index = readInteger(o.require("embedded"), at);
-    if (index < 0 || size_t(index) >= options.embedded->meshes.size())
-        throw InputError(at, "no mesh " + std::to_string(index) + " in the model (it has " +
-                                 std::to_string(options.embedded->meshes.size()) + ")");
-    return options.embedded->meshes[size_t(index)];
-}
-
 // A mesh from exactly one of "file" (an OBJ in the assets folder), "asset" (an uploaded mesh) or
 // "embedded" (an imported model's).
 void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions& options,
@@ -266,7 +254,8 @@ void readMesh(JsonObject& o, uint32_t material, Scene& scene, const SceneOptions
     if (const Json* t = o.find("transform"))
         transform = readTransform(*t, o.pathOf("transform"), frame);
     if (embeddedField) {
-        const EmbeddedData::Mesh& embedded = embeddedMesh(o, options);
+        const EmbeddedData::Mesh& embedded =
+            embeddedItem(o, options.embedded, &EmbeddedData::meshes, "mesh");
         if (options.countMeshesOnly) {
             scene.countedMeshes.push_back({embedded.counts, material});
             return;

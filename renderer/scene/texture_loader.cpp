@@ -37,18 +37,6 @@ void readTransform(const Json& j, const std::string& path, TextureSlot& slot) {
     slot.offset = offset;
 }
 
-// An imported model's image, "embedded": its index in SceneOptions::embedded.
-const EmbeddedData::Image& embeddedImage(JsonObject& t, const SceneOptions& options) {
-    const std::string at = t.pathOf("embedded");
-    if (!options.embedded)
-        throw InputError(at, "names a model file's image, and this scene comes from no model file");
-    const int64_t index = readInteger(t.require("embedded"), at);
-    if (index < 0 || size_t(index) >= options.embedded->images.size())
-        throw InputError(at, "no image " + std::to_string(index) + " in the model (it has " +
-                                 std::to_string(options.embedded->images.size()) + ")");
-    return options.embedded->images[size_t(index)];
-}
-
 }  // namespace
 
 TextureSlot readTexture(JsonObject& o, const std::string& key, TextureEncoding encoding,
@@ -66,7 +54,7 @@ TextureSlot readTexture(JsonObject& o, const std::string& key, TextureEncoding e
     } else {
         JsonObject t(*j, path);
         if (t.find("embedded")) {
-            embedded = &embeddedImage(t, options);
+            embedded = &embeddedItem(t, options.embedded, &EmbeddedData::images, "image");
             if (t.find("file"))
                 throw InputError(t.pathOf("file"), "a texture has \"file\" or \"embedded\"");
         } else {

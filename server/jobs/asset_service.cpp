@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "gltf/gltf_meshes.h"
 #include "gltf/gltf_scene.h"
 #include "gltf/gltf_zip.h"
 #include "jobs/clock.h"
@@ -101,14 +102,11 @@ std::optional<Upload> AssetService::admit(std::string_view mediaType, const std:
     return std::nullopt;
 }
 
-Json AssetService::modelSummary(const std::string& bytes, MeshFormat format,
-                                const std::string& name) const {
-    const std::string path;
-    const MeshErrors errors{name, path};
+Json AssetService::modelSummary(const GltfFile& file, const MeshErrors& errors) const {
     GltfImportOptions options;
     options.countOnly = true;
     options.maxPixels = config_.limits.maxPixels;
-    return importGltf(loadGltfUpload(bytes, format, errors), options, errors).summary;
+    return importGltf(file, options, errors).summary;
 }
 
 void AssetService::keep(const std::string& id, const Json& model) {
@@ -127,9 +125,10 @@ Json AssetService::model(const Asset& asset) {
     std::shared_ptr<const std::string> bytes = store_.assetBytes(asset.id);
     if (!bytes) return nullptr;
     Json model;
+    const std::string name = asset.name.empty() ? "asset " + asset.id : asset.name, path;
+    const MeshErrors errors{name, path};
     try {
-        model =
-            modelSummary(*bytes, *format, asset.name.empty() ? "asset " + asset.id : asset.name);
+        model = modelSummary(loadGltfUpload(*bytes, *format, errors), errors);
     } catch (const InputError& e) {
         // Stored under other limits (a larger --max-pixels): it imported then, not now.
         model = Json{{"error", e.message()}};
@@ -150,10 +149,20 @@ std::optional<Upload> AssetService::load(MeshFormat format, const std::string& n
                            " triangles per asset (--max-asset-triangles)");
     };
     TriangleMesh mesh;
+    const std::string label = name.empty() ? "the upload" : name, path;
+    const MeshErrors errors{label, path};
     try {
-        // An OBJ's triangles are counted before they are built: the limit bounds the memory.
-        mesh = parseMeshBytes(bytes, format, MeshTransform{}, name.empty() ? "the upload" : name,
-                              "", uint64_t(maxTriangles));
+        if (isGltfFormat(format)) {
+            // Read once: its mesh is checked vertex by vertex, and the model must import as a
+            // scene too (materials, images, extensions).
+            const GltfFile file = loadGltfUpload(bytes, format, errors);
+            mesh = joinedMesh(file.model, MeshTransform{}, false, errors);
+            model = modelSummary(file, errors);
+        } else {
+            // An OBJ's triangles are counted before they are built: the limit bounds the memory.
+            mesh =
+                parseMeshBytes(bytes, format, MeshTransform{}, label, path, uint64_t(maxTriangles));
+        }
     } catch (const MeshOverLimit& e) {
         return tooMany(e.message());
     } catch (const InputError& e) {
@@ -161,14 +170,6 @@ std::optional<Upload> AssetService::load(MeshFormat format, const std::string& n
     }
     if (int64_t(mesh.triangles.size()) > maxTriangles)
         return tooMany("the mesh has " + std::to_string(mesh.triangles.size()) + " triangles");
-    if (isGltfFormat(format)) {
-        // A glTF model is a scene too: it must import as one (materials, images, extensions).
-        try {
-            model = modelSummary(bytes, format, name.empty() ? "the upload" : name);
-        } catch (const InputError& e) {
-            return refused(Outcome::Invalid, e.message());
-        }
-    }
     const MeshBounds bounds = boundsOf(mesh);
     asset.format = nameOf(format);
     asset.name = name;

@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "gltf/gltf_model.h"
 #include "scene/mesh_file.h"
 #include "scene/scene.h"
 #include "server_config.h"
@@ -80,9 +81,9 @@ private:
     /// has too many triangles.
     std::optional<Upload> load(MeshFormat format, const std::string& name, const std::string& bytes,
                                Asset& asset, Json& model) const;
-    /// The summary of a .glb imported as a scene, counting only; InputError when it does not
+    /// The summary of a model imported as a scene, counting only; InputError when it does not
     /// import.
-    Json modelSummary(const std::string& bytes, MeshFormat format, const std::string& name) const;
+    Json modelSummary(const GltfFile& file, const MeshErrors& errors) const;
 
     /// Keeps a model's summary (at most kKeptModels of them: a GET then costs no import).
     void keep(const std::string& id, const Json& model);

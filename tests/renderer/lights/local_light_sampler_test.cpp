@@ -49,6 +49,23 @@ TEST(LocalLightSampler, ChoosesByContributionAtThePoint) {
         EXPECT_NEAR(counts[i], n * sampler.pmf(ctx, i), 2.0) << "light " << i;
 }
 
+TEST(LocalLightSampler, AGrazingLightKeepsAShareBoundedBelow) {
+    // A point light in the surface's geometric plane contributes through a shading normal or a
+    // glossy lobe; its cosine counts as kMinImportanceCosine, not 0, so its samples' weight
+    // (contribution / pmf) stays bounded.
+    std::vector<std::unique_ptr<Light>> lights;
+    lights.push_back(std::make_unique<PointLight>(Vec3(2, 0, 0), Color(1.0f)));  // grazing
+    lights.push_back(std::make_unique<PointLight>(Vec3(0, 2, 0), Color(1.0f)));  // overhead
+    const LightSampler byPower(lights);
+    const LocalLightSampler sampler(lights, lights.size(), byPower);
+    SurfaceInteraction si;
+    si.p = si.pError = Vec3(0.0f);
+    si.n = si.ns = Vec3(0, 1, 0);
+    const LightSampleContext ctx(si);
+    EXPECT_FLOAT_EQ(sampler.pmf(ctx, 0), kMinImportanceCosine / (1.0f + kMinImportanceCosine));
+    EXPECT_FLOAT_EQ(sampler.pmf(ctx, 1), 1.0f / (1.0f + kMinImportanceCosine));
+}
+
 TEST(LocalLightSampler, ManyLightsAreChosenByPower) {
     std::vector<std::unique_ptr<Light>> lights;
     for (size_t i = 0; i <= LocalLightSampler::kMaxLights; ++i)
