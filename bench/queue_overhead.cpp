@@ -1,7 +1,8 @@
 // The scale-out queue's cost per task on PostgreSQL (server/store/task.h): what one call of each
 // store operation a worker makes per task takes — claimTask, heartbeatTask, workerSeen and
-// completeTask (the hand-in, which merges the task's film into the job's film.bin under the job's
-// row lock) — at 64², 256² and 512², with the bytes each moves. bench/README.md, "Scale-out".
+// completeTask (the hand-in, which stores the task's film) — and a consolidation batch of one
+// result (read the job's film.bin, merge, write it and the preview) and the last one (the
+// images), at 64², 256² and 512², with the bytes each moves. bench/README.md, "Scale-out".
 //
 // Google Benchmark with manual time: each benchmark times one operation with a steady clock; what
 // it needs around it (the claim before a hand-in, the hand-in after a claim) runs untimed. Each
@@ -27,6 +28,7 @@
 #include "bench_common.h"
 #include "film/film.h"
 #include "jobs/clock.h"
+#include "postgres_cluster.h"
 #include "render/settings.h"
 #include "scene/scene.h"
 #include "store/postgres_job_store.h"
@@ -48,39 +50,6 @@ std::vector<Row> rows;
 std::unique_ptr<PostgresJobStore> store;
 std::unique_ptr<pqxx::connection> sql;
 const FarmPolicy kPolicy{.leaseSeconds = 600};  // no lease expires during a run
-
-// A throwaway PostgreSQL cluster (tests/support/postgres.sh), stopped by the destructor, or by
-// the script's watcher if this process is killed.
-class Cluster {
-public:
-    Cluster()
-        : folder_(std::filesystem::temp_directory_path() /
-                  ("caustic-bench-pg-" + std::to_string(getpid()))) {
-        const std::string command = "bash '" + script() + "' start '" + folder_.string() +
-                                    "' --watch " + std::to_string(getpid());
-        FILE* out = popen(command.c_str(), "r");
-        if (!out) throw std::runtime_error("cannot run " + command);
-        char buffer[512];
-        while (std::fgets(buffer, sizeof buffer, out)) url_ += buffer;
-        if (pclose(out) != 0 || url_.empty())
-            throw std::runtime_error("the PostgreSQL cluster did not start: " + command);
-        while (!url_.empty() && std::isspace(static_cast<unsigned char>(url_.back())))
-            url_.pop_back();
-    }
-    ~Cluster() {
-        const std::string command = "bash '" + script() + "' stop '" + folder_.string() + "'";
-        if (std::system(command.c_str()) != 0)
-            std::fprintf(stderr, "queue_overhead: could not stop %s\n", folder_.c_str());
-    }
-    Cluster(const Cluster&) = delete;
-    Cluster& operator=(const Cluster&) = delete;
-    const std::string& url() const { return url_; }
-
-private:
-    static std::string script() { return CAUSTIC_SOURCE_DIR "/tests/support/postgres.sh"; }
-    std::filesystem::path folder_;
-    std::string url_;
-};
 
 // A split job of `tasks` one-pass tasks on cornell-box at size², as the service stores one.
 Job makeJob(int size, int tasks) {
@@ -126,7 +95,7 @@ TaskResult makeResult(const Task& task, const std::vector<Color>& pass, int size
 }
 
 Task claim(const std::string& worker) {
-    std::optional<ClaimedTask> claimed = store->claimTask(worker, unixNow(), kPolicy);
+    std::optional<ClaimedTask> claimed = store->claimTask(worker, kPolicy);
     if (!claimed) throw std::runtime_error("no task to claim");
     return claimed->task;
 }
@@ -179,7 +148,8 @@ void BM_Claim(benchmark::State& state) {
     for (auto _ : state) {
         Task task;
         timed(state, row, [&] { task = claim("bench-worker"); });
-        store->completeTask(task, makeResult(task, pass, size), unixNow());
+        store->completeTask(task, makeResult(task, pass, size));
+        store->consolidate(job.id);
     }
     row.bytes["job JSON bytes"] = double(job.scene.dump().size() + job.settings.dump().size());
     finish(state, std::move(row), job);
@@ -192,7 +162,7 @@ void BM_Heartbeat(benchmark::State& state) {
     Row row{"heartbeatTask", sizeName(int(state.range(0)))};
     for (auto _ : state)
         timed(state, row, [&] {
-            if (store->heartbeatTask(task, unixNow(), kPolicy.leaseSeconds) != LeaseStatus::Held)
+            if (store->heartbeatTask(task, kPolicy.leaseSeconds) != LeaseStatus::Held)
                 throw std::runtime_error("the lease was lost");
         });
     finish(state, std::move(row), job);
@@ -216,51 +186,66 @@ void BM_WorkerSeen(benchmark::State& state) {
     finish(state, std::move(row), job);
 }
 
-// A hand-in that merges into the job's film and leaves the job running: read film.bin, decode,
-// merge, write film.bin and preview.png, update the job, in one transaction under the job's row
-// lock (the serial section of a job).
+// A hand-in: the task's film stored in its row (no lock on the job, no film read).
 void BM_Complete(benchmark::State& state) {
     const int size = int(state.range(0));
     const Job job = makeJob(size, int(state.max_iterations) + 1);
     const std::vector<Color> pass = passImage(size);
-    Row row{"completeTask (merge)", sizeName(size)};
+    Row row{"completeTask (hand-in)", sizeName(size)};
     TaskResult result;
     for (auto _ : state) {
         const Task task = claim("bench-worker");
         result = makeResult(task, pass, size);
         timed(state, row, [&] {
-            if (store->completeTask(task, result, unixNow()) != TaskCommit::Merged)
-                throw std::runtime_error("the task was not merged");
+            if (store->completeTask(task, result) != TaskCommit::Accepted)
+                throw std::runtime_error("the result was not accepted");
+        });
+        store->consolidate(job.id);
+    }
+    row.bytes["result film bytes"] = double(result.film.size());
+    finish(state, std::move(row), job);
+}
+
+// A consolidation batch of one result into a job that goes on: read film.bin, decode, merge, write
+// film.bin and preview.png, update the job, in one transaction under the job's advisory lock.
+void BM_Consolidate(benchmark::State& state) {
+    const int size = int(state.range(0));
+    const Job job = makeJob(size, int(state.max_iterations) + 1);
+    const std::vector<Color> pass = passImage(size);
+    Row row{"consolidate (one result)", sizeName(size)};
+    for (auto _ : state) {
+        const Task task = claim("bench-worker");
+        store->completeTask(task, makeResult(task, pass, size));
+        timed(state, row, [&] {
+            if (store->consolidate(job.id) != Consolidation::Merged)
+                throw std::runtime_error("the result was not merged");
         });
     }
     const std::map<std::string, double> files = fileBytes(job.id);
-    row.bytes["result film bytes"] = double(result.film.size());
     row.bytes["film.bin bytes (read + written)"] = files.at("film.bin");
     row.bytes["film.bin stored bytes"] = files.at("film.bin stored");
     row.bytes["preview.png bytes"] = files.at("preview.png");
     finish(state, std::move(row), job);
 }
 
-// The last hand-in of a job: merges and writes image.exr and image.png, ends the job (no
-// film.bin to read: a one-task job).
-void BM_CompleteLast(benchmark::State& state) {
+// The last batch of a job: merges and writes image.exr and image.png, ends the job (no film.bin
+// to read: a one-task job).
+void BM_ConsolidateLast(benchmark::State& state) {
     const int size = int(state.range(0));
     const std::vector<Color> pass = passImage(size);
-    Row row{"completeTask (last: images)", sizeName(size)};
+    Row row{"consolidate (last: images)", sizeName(size)};
     Job job;
-    TaskResult result;
     for (auto _ : state) {
         if (!job.id.empty()) store->remove(job.id);
         job = makeJob(size, 1);
         const Task task = claim("bench-worker");
-        result = makeResult(task, pass, size);
+        store->completeTask(task, makeResult(task, pass, size));
         timed(state, row, [&] {
-            if (store->completeTask(task, result, unixNow()) != TaskCommit::Finished)
+            if (store->consolidate(job.id) != Consolidation::Finished)
                 throw std::runtime_error("the job did not finish");
         });
     }
     const std::map<std::string, double> files = fileBytes(job.id);
-    row.bytes["result film bytes"] = double(result.film.size());
     row.bytes["image.exr bytes"] = files.at("image.exr");
     finish(state, std::move(row), job);
 }
@@ -278,8 +263,9 @@ void registerBenchmarks(bool smoke) {
     add("workerSeen", BM_WorkerSeen)->Arg(64)->Iterations(iterations(200));
     for (int64_t size : sizes) {
         const int64_t n = size >= 512 ? 20 : size >= 256 ? 40 : 100;
-        add("completeTask/merge", BM_Complete)->Arg(size)->Iterations(iterations(n));
-        add("completeTask/last", BM_CompleteLast)->Arg(size)->Iterations(iterations(n / 4));
+        add("completeTask", BM_Complete)->Arg(size)->Iterations(iterations(n));
+        add("consolidate/one", BM_Consolidate)->Arg(size)->Iterations(iterations(n));
+        add("consolidate/last", BM_ConsolidateLast)->Arg(size)->Iterations(iterations(n / 4));
     }
 }
 
@@ -315,15 +301,15 @@ int main(int argc, char** argv) {
     if (int exitCode = cli::parseCommandLine(app, argc, argv); exitCode >= 0) return exitCode;
     std::cout << "Machine: nproc " << bench::onlineCpus() << ", " << bench::cpuModel()
               << ". Command: `" << command << "`\n\n";
-    std::unique_ptr<Cluster> cluster;
+    std::unique_ptr<bench::PostgresCluster> cluster;
     int status = 0;
     try {
         if (url.empty()) {
-            if (access("/usr/lib/postgresql/15/bin/initdb", X_OK) != 0) {
+            if (!bench::haveServerBinaries()) {
                 std::cerr << "queue_overhead: no PostgreSQL 15 server binaries: skipped\n";
                 return 77;
             }
-            cluster = std::make_unique<Cluster>();
+            cluster = std::make_unique<bench::PostgresCluster>();
             url = cluster->url();
         }
         store = std::make_unique<PostgresJobStore>(url);

@@ -5,6 +5,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
+
 #include "command_line.h"
 #include "logging.h"
 #include "service_options.h"
@@ -39,7 +41,8 @@ int runWorker(const server::ServerConfig& config) {
     try {
         server::setUpLogging(config.logLevel, "");
 #if CAUSTIC_HAS_POSTGRES
-        server::PostgresJobStore store(config.store, config.storeWaitSeconds);
+        server::PostgresJobStore store(config.store, config.storeWaitSeconds,
+                                       "caustic-worker-" + std::to_string(::getpid()));
         server::RenderCounters counters;
         server::TaskWorkers workers(config, store, counters);
         // Printed on stdout, not logged: scripts and tests wait for this line.

@@ -21,7 +21,7 @@ packages=(
     libcli11-dev
     # Renderer
     libglm-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libopenimageio-dev
-    libembree-dev libdraco-dev libzip-dev libmeshoptimizer-dev
+    libembree-dev libdraco-dev libzip-dev libzstd-dev libmeshoptimizer-dev
     # Render service (libssl-dev: SHA-256 asset ids and TLS; libspdlog-dev: the access log and
     # messages; libpqxx-dev: PostgreSQL's C++ client, for the scale-out store)
     libcpp-httplib-dev libsqlite3-dev libssl-dev libspdlog-dev libpqxx-dev

@@ -65,9 +65,12 @@ struct ServerConfig {
     // Scale-out (PostgreSQL only).
     double storeWaitSeconds = 30;  ///< How long a start waits for the PostgreSQL store.
     int taskPasses = 8;            ///< Passes per task of a job that sets no task_passes.
-    int blockAfterFailures = 2;    ///< A worker's failed tasks of a job before it skips the job.
-    int failAfterWorkers = 3;      ///< Workers that failed a job's tasks before the job fails.
-    bool failEveryTask = false;    ///< Test only: this process's workers fail every task.
+    /// Render seconds a worker goes on with tasks of one job before it hands them in as one
+    /// film (farm/task_workers.h); its first hand-in of a job is one task.
+    double handInSeconds = 30;
+    int blockAfterFailures = 2;  ///< A worker's failed tasks of a job before it skips the job.
+    int failAfterWorkers = 3;    ///< Workers that failed a job's tasks before the job fails.
+    bool failEveryTask = false;  ///< Test only: this process's workers fail every task.
     ServiceLimits limits;
     StoragePolicy storage;
 };

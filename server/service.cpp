@@ -164,7 +164,8 @@ void RenderService::openSharedStore() {
 #if CAUSTIC_HAS_POSTGRES
     // Nothing here is shared through the data folder: leases expire by time (other processes'
     // are live), files live in the store, and a crash is a lease that expires.
-    auto store = std::make_unique<PostgresJobStore>(config_.store, config_.storeWaitSeconds);
+    auto store = std::make_unique<PostgresJobStore>(config_.store, config_.storeWaitSeconds,
+                                                    "caustic-serve-" + std::to_string(::getpid()));
     files_ = std::make_unique<PostgresJobFiles>(*store);
     farm_ = std::make_unique<Farm>();
     farm_->store = store.get();

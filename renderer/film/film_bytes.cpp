@@ -1,14 +1,30 @@
-// A film as bytes: a header, the pass ranges, then the accumulators as they are in memory (the
-// same machine type writes and reads them: x86-64, little-endian). The exact integers travel
-// unchanged, so a film read back is bit-identical to the one written.
+// A film as bytes: a header, the pass ranges, then the accumulators, exactly: a film read back is
+// bit-identical to the one written (the same machine type writes and reads them: x86-64,
+// little-endian).
+//
+// Format 3 (written): the exact integers hold far fewer significant bits than their 128- and
+// 192-bit slots. A pass value is a float times 2^50 (film/exact_sum.h), so a sum's low bits are
+// zero below its smallest addend's last bit, and its high bits are zero above its magnitude. Each
+// integer (sums zigzag-encoded, as protobuf's sint) is written as its count of trailing zero bits
+// (one byte, 0xFF for zero) and the rest in LEB128 (7 bits a byte). The shift bytes come first,
+// then the digits, and the whole is compressed with zstd (level 1: the shifts repeat, the digits
+// hardly compress). Format 2 (read only: checkpoints of earlier versions): the accumulators as they
+// are in memory.
+#include <zstd.h>
+
 #include <cstring>
+#include <stdexcept>
 
 #include "film/film.h"
 
 namespace caustic {
 namespace {
 
-constexpr char kMagic[8] = {'C', 'F', 'I', 'L', 'M', '0', '0', '2'};
+constexpr char kMagic[8] = {'C', 'F', 'I', 'L', 'M', '0', '0', '3'};
+constexpr char kMagicRaw[8] = {'C', 'F', 'I', 'L', 'M', '0', '0', '2'};
+constexpr uint8_t kZero = 0xFF;
+// At most one shift byte and ceil(192 / 7) digit bytes an integer.
+constexpr size_t kMaxBytesPerInteger = 1 + 28;
 
 struct Header {
     char magic[8];
@@ -33,6 +49,88 @@ bool take(std::string_view in, size_t& at, T* data, size_t count) {
     return true;
 }
 
+// An unsigned integer of up to 192 bits, least significant limb first.
+struct Limbs {
+    uint64_t w[3] = {0, 0, 0};
+
+    bool zero() const { return (w[0] | w[1] | w[2]) == 0; }
+    int trailingZeros() const {
+        for (int i = 0; i < 3; ++i)
+            if (w[i]) return 64 * i + __builtin_ctzll(w[i]);
+        return 192;
+    }
+    void shiftRight(int n) {
+        for (; n >= 64; n -= 64) w[0] = w[1], w[1] = w[2], w[2] = 0;
+        if (n == 0) return;
+        w[0] = (w[0] >> n) | (w[1] << (64 - n));
+        w[1] = (w[1] >> n) | (w[2] << (64 - n));
+        w[2] >>= n;
+    }
+    void shiftLeft(int n) {
+        for (; n >= 64; n -= 64) w[2] = w[1], w[1] = w[0], w[0] = 0;
+        if (n == 0) return;
+        w[2] = (w[2] << n) | (w[1] >> (64 - n));
+        w[1] = (w[1] << n) | (w[0] >> (64 - n));
+        w[0] <<= n;
+    }
+};
+
+Limbs zigzag(exact::Int128 v) {
+    const exact::UInt128 u = (exact::UInt128(v) << 1) ^ exact::UInt128(v >> 127);
+    return Limbs{{uint64_t(u), uint64_t(u >> 64), 0}};
+}
+
+exact::Int128 unzigzag(const Limbs& l) {
+    const exact::UInt128 u = (exact::UInt128(l.w[1]) << 64) | l.w[0];
+    return exact::Int128(u >> 1) ^ -exact::Int128(u & 1);
+}
+
+void put(std::string& shifts, std::string& digits, Limbs v) {
+    if (v.zero()) {
+        shifts.push_back(char(kZero));
+        return;
+    }
+    const int tz = v.trailingZeros();
+    shifts.push_back(char(tz));
+    v.shiftRight(tz);
+    while (v.w[1] | v.w[2]) {
+        digits.push_back(char(0x80 | (v.w[0] & 0x7F)));
+        v.shiftRight(7);
+    }
+    uint64_t low = v.w[0];
+    while (low >= 0x80) {
+        digits.push_back(char(0x80 | (low & 0x7F)));
+        low >>= 7;
+    }
+    digits.push_back(char(low));
+}
+
+// Reads one integer of its shift byte and digits at `at`; false when the digits run out or the
+// value does not fit `bits` bits.
+bool get(uint8_t shift, std::string_view digits, size_t& at, int bits, Limbs& v) {
+    v = Limbs{};
+    if (shift == kZero) return true;
+    if (shift >= bits) return false;
+    int position = 0;
+    while (true) {
+        if (at >= digits.size() || position >= bits - shift) return false;
+        const auto byte = uint8_t(digits[at++]);
+        Limbs part{{uint64_t(byte & 0x7F), 0, 0}};
+        part.shiftLeft(position);
+        for (int i = 0; i < 3; ++i) v.w[i] |= part.w[i];
+        position += 7;
+        if (!(byte & 0x80)) break;
+    }
+    Limbs check = v;
+    check.shiftLeft(shift);
+    Limbs back = check;
+    back.shiftRight(shift);
+    if (back.w[0] != v.w[0] || back.w[1] != v.w[1] || back.w[2] != v.w[2]) return false;
+    if (bits == 128 && check.w[2]) return false;
+    v = check;
+    return true;
+}
+
 }  // namespace
 
 std::string Film::toBytes() const {
@@ -44,23 +142,38 @@ std::string Film::toBytes() const {
     h.clamped = clamped_;
     h.ranges = uint32_t(passSet_.ranges().size());
     std::string out;
-    out.reserve(sizeof h + 8 * h.ranges + bytesFor(width_, height_));
     append(out, &h, 1);
     for (const PassSet::Range& r : passSet_.ranges()) {
         int32_t pair[2] = {r.first, r.second};
         append(out, pair, 2);
     }
-    append(out, sum_.data(), sum_.size());
-    append(out, sumSq_.data(), sumSq_.size());
+    std::string plain, digits;
+    plain.reserve(sum_.size() + sumSq_.size());
+    digits.reserve(8 * (sum_.size() + sumSq_.size()));
+    for (exact::Int128 v : sum_) put(plain, digits, zigzag(v));
+    for (const exact::Wide192& v : sumSq_)
+        put(plain, digits, Limbs{{v.limb[0], v.limb[1], v.limb[2]}});
+    plain += digits;
+    const uint64_t plainBytes = plain.size();
+    append(out, &plainBytes, 1);
+    const size_t at = out.size();
+    out.resize(at + ZSTD_compressBound(plain.size()));
+    const size_t packed = ZSTD_compress(out.data() + at, out.size() - at, plain.data(),
+                                        plain.size(), /*compressionLevel=*/1);
+    if (ZSTD_isError(packed))
+        throw std::runtime_error(std::string("compressing a film: ") + ZSTD_getErrorName(packed));
+    out.resize(at + packed);
     return out;
 }
 
 std::unique_ptr<Film> Film::fromBytes(std::string_view bytes, int width, int height) {
     Header h{};
     size_t at = 0;
-    if (!take(bytes, at, &h, 1) || std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 ||
-        h.width != width || h.height != height || h.ranges > uint32_t(exact::kMaxPasses))
+    if (!take(bytes, at, &h, 1) || h.width != width || h.height != height ||
+        h.ranges > uint32_t(exact::kMaxPasses))
         return nullptr;
+    const bool raw = std::memcmp(h.magic, kMagicRaw, sizeof kMagicRaw) == 0;
+    if (!raw && std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) return nullptr;
     auto film = std::make_unique<Film>(width, height);
     // Ranges as this code writes them: sorted, apart, not empty, below kMaxPasses.
     int32_t previousEnd = -1;
@@ -72,13 +185,54 @@ std::unique_ptr<Film> Film::fromBytes(std::string_view bytes, int width, int hei
         film->passSet_.insert(pair[0], pair[1]);
         previousEnd = pair[1];
     }
-    if (!take(bytes, at, film->sum_.data(), film->sum_.size()) ||
-        !take(bytes, at, film->sumSq_.data(), film->sumSq_.size()) || at != bytes.size())
+    if (raw) {
+        if (!take(bytes, at, film->sum_.data(), film->sum_.size()) ||
+            !take(bytes, at, film->sumSq_.data(), film->sumSq_.size()) || at != bytes.size())
+            return nullptr;
+    } else if (!film->readCompact(bytes.substr(at))) {
         return nullptr;
+    }
     film->dropped_ = h.dropped;
     film->clamped_ = h.clamped;
     film->updateRelativeError(0);
     return film;
+}
+
+std::optional<std::pair<int, int>> Film::sizeOf(std::string_view bytes) {
+    Header h{};
+    size_t at = 0;
+    if (!take(bytes, at, &h, 1) || h.width <= 0 || h.height <= 0 ||
+        (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 &&
+         std::memcmp(h.magic, kMagicRaw, sizeof kMagicRaw) != 0))
+        return std::nullopt;
+    return std::pair<int, int>(h.width, h.height);
+}
+
+bool Film::readCompact(std::string_view bytes) {
+    const size_t count = sum_.size() + sumSq_.size();
+    uint64_t plainBytes = 0;
+    size_t at = 0;
+    if (!take(bytes, at, &plainBytes, 1) || plainBytes < count ||
+        plainBytes > count * kMaxBytesPerInteger ||
+        ZSTD_getFrameContentSize(bytes.data() + at, bytes.size() - at) != plainBytes)
+        return false;
+    std::string plain(plainBytes, '\0');
+    const size_t n =
+        ZSTD_decompress(plain.data(), plain.size(), bytes.data() + at, bytes.size() - at);
+    if (ZSTD_isError(n) || n != plainBytes) return false;
+    const std::string_view shifts = std::string_view(plain).substr(0, count);
+    const std::string_view digits = std::string_view(plain).substr(count);
+    size_t next = 0;
+    Limbs v;
+    for (size_t i = 0; i < sum_.size(); ++i) {
+        if (!get(uint8_t(shifts[i]), digits, next, 128, v)) return false;
+        sum_[i] = unzigzag(v);
+    }
+    for (size_t i = 0; i < sumSq_.size(); ++i) {
+        if (!get(uint8_t(shifts[sum_.size() + i]), digits, next, 192, v)) return false;
+        sumSq_[i] = exact::Wide192{{v.w[0], v.w[1], v.w[2]}};
+    }
+    return next == digits.size();
 }
 
 }  // namespace caustic

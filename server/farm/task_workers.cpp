@@ -8,12 +8,12 @@
 #include <spdlog/spdlog.h>
 
 #include "core/error.h"
+#include "gltf/scene_document.h"
 #include "jobs/asset_service.h"
 #include "jobs/clock.h"
 #include "jobs/lease_keeper.h"
 #include "render/render_session.h"
 #include "render/resolution.h"
-#include "gltf/scene_document.h"
 #include "scene/scene.h"
 #include "store/pass_images.h"
 #include "store/store_unavailable.h"
@@ -25,6 +25,40 @@ struct TaskWorkers::Cached {
     std::unique_ptr<Scene> scene;
     RenderSettings settings;
     std::unique_ptr<RenderSession> session;
+};
+
+struct TaskWorkers::Chain {
+    /// The tasks held, shared with the lease keeper's heartbeats.
+    struct Held {
+        std::mutex mutex;
+        std::vector<Task> tasks;
+    };
+
+    std::string jobId;
+    std::vector<TaskDone> done;  ///< Rendered, in `film` (or `passImages`).
+    std::unique_ptr<Film> film;  ///< A job without a target error.
+    std::string passImages;      ///< A job with one: one task at a time.
+    double renderSeconds = 0;    ///< Of `done`.
+    double handInAfter = 0;      ///< Render seconds before the next hand-in.
+    std::shared_ptr<Held> held = std::make_shared<Held>();
+    std::unique_ptr<LeaseKeeper> lease;
+
+    bool empty() const { return done.empty(); }
+    std::vector<Task> tasks() const {
+        std::vector<Task> all;
+        for (const TaskDone& d : done) all.push_back(d.task);
+        return all;
+    }
+    /// Holds nothing more (the job's pace of hand-ins stays).
+    void clear() {
+        lease.reset();
+        done.clear();
+        film.reset();
+        passImages.clear();
+        renderSeconds = 0;
+        std::lock_guard lock(held->mutex);
+        held->tasks.clear();
+    }
 };
 
 namespace {
@@ -55,6 +89,7 @@ FarmPolicy TaskWorkers::policy() const {
 }
 
 void TaskWorkers::start() {
+    consolidator_ = std::make_unique<Consolidator>(store_);
     for (int i = 0; i < config_.workers; ++i) threads_.emplace_back([this, i] { run(i); });
 }
 
@@ -64,6 +99,7 @@ void TaskWorkers::stop() {
     for (std::thread& t : threads_)
         if (t.joinable()) t.join();
     threads_.clear();
+    consolidator_.reset();
 }
 
 void TaskWorkers::wake() {
@@ -78,6 +114,7 @@ void TaskWorkers::run(int index) {
     me.threads = config_.renderThreads > 0 ? config_.renderThreads : me.cores;
     me.startedAt = unixNow();
     Cached cache;
+    Chain chain;
     double lastSeen = 0;
     while (!stopping_) {
         std::optional<ClaimedTask> claimed;
@@ -89,12 +126,16 @@ void TaskWorkers::run(int index) {
                 store_.workerSeen(me);
                 lastSeen = me.lastSeen;
             }
-            claimed = store_.claimTask(me.id, unixNow(), policy());
+            claimed = store_.claimTask(me.id, policy(), chain.jobId);
         } catch (const std::exception& e) {
             spdlog::error("worker {}: claiming a task: {}", me.id, e.what());
         }
+        // The job has no task left for this worker, or another job comes first: what it holds
+        // goes now.
+        if (!chain.empty() && (!claimed || claimed->job.id != chain.jobId)) handIn(me.id, chain);
         if (!claimed) {
             cache = Cached{};  // an idle worker holds no scene
+            chain.jobId.clear();
             // Polled as well: leases expire and other processes queue jobs without a wake-up.
             std::unique_lock lock(mutex_);
             wake_.wait_for(lock, std::chrono::milliseconds(250));
@@ -106,8 +147,10 @@ void TaskWorkers::run(int index) {
         } catch (const std::exception&) {
             // Only the workers list is late.
         }
-        renderTask(me.id, *claimed, cache);
+        renderTask(me.id, *claimed, cache, chain);
     }
+    // Stopping: the tasks rendered whole are handed in (a render cut short gave its tasks back).
+    if (!chain.empty()) handIn(me.id, chain);
     try {
         store_.workerGone(me.id);
     } catch (const std::exception&) {
@@ -115,33 +158,65 @@ void TaskWorkers::run(int index) {
     }
 }
 
-void TaskWorkers::handIn(const std::string& worker, const Task& task, const TaskResult& result) {
+void TaskWorkers::handIn(const std::string& worker, Chain& chain) {
     // A store that cannot take the result (PostgreSQL restarting, the network gone) is not the
-    // render's failure: the task's lease expires and it is rendered again.
+    // render's failure: the tasks' leases expire and they are rendered again.
     try {
-        store_.completeTask(task, result, unixNow());
+        if (!chain.lease || !chain.lease->lost) {
+            const std::string result = chain.film ? chain.film->toBytes() : chain.passImages;
+            if (store_.completeTasks(chain.done, result) == TaskCommit::Accepted && consolidator_)
+                consolidator_->wake();
+        }
     } catch (const std::exception& e) {
-        spdlog::warn("worker {}: handing in task {}-{} of job {}: {}; it will be rendered again",
-                     worker, task.firstPass, task.lastPass, task.jobId, e.what());
+        spdlog::warn("worker {}: handing in {} task(s) of job {}: {}; they will be rendered again",
+                     worker, chain.done.size(), chain.jobId, e.what());
     }
+    chain.clear();
+    // The next hand-in of this job waits twice as long, up to --hand-in-seconds.
+    chain.handInAfter = std::min(config_.handInSeconds, std::max(1.0, 2 * chain.handInAfter));
 }
 
-void TaskWorkers::giveBack(const std::string& worker, const Task& task) {
-    // A store out of reach leaves the task to its lease, which expires: it is rendered again.
-    try {
-        store_.releaseTask(task, unixNow());
-    } catch (const std::exception& e) {
-        spdlog::warn("worker {}: giving back task {}-{} of job {}: {}", worker, task.firstPass,
-                     task.lastPass, task.jobId, e.what());
+void TaskWorkers::giveBack(const std::string& worker, Chain& chain) {
+    std::vector<Task> tasks;
+    {
+        std::lock_guard lock(chain.held->mutex);
+        tasks = chain.held->tasks;
     }
+    // A store out of reach leaves the tasks to their leases, which expire: they are rendered
+    // again.
+    if (!tasks.empty() && !(chain.lease && chain.lease->lost)) try {
+            store_.releaseTasks(tasks);
+        } catch (const std::exception& e) {
+            spdlog::warn("worker {}: giving back {} task(s) of job {}: {}", worker, tasks.size(),
+                         tasks.front().jobId, e.what());
+        }
+    chain.clear();
 }
 
-void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claimed, Cached& cache) {
+void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claimed, Cached& cache,
+                             Chain& chain) {
     const Task& task = claimed.task;
     const Job& job = claimed.job;
-    LeaseKeeper lease(
-        [this, &task](double now) { return store_.heartbeatTask(task, now, config_.leaseSeconds); },
-        config_.leaseSeconds, stopping_);
+    if (chain.jobId != job.id) {
+        chain.jobId = job.id;
+        chain.handInAfter = 0;  // a job's first hand-in is one task
+    }
+    {
+        std::lock_guard lock(chain.held->mutex);
+        chain.held->tasks.push_back(task);
+    }
+    if (!chain.lease)
+        chain.lease = std::make_unique<LeaseKeeper>(
+            [&store = store_, held = chain.held, seconds = config_.leaseSeconds](double) {
+                std::vector<Task> tasks;
+                {
+                    std::lock_guard lock(held->mutex);
+                    tasks = held->tasks;
+                }
+                return store.heartbeatTasks(tasks, seconds);
+            },
+            config_.leaseSeconds, stopping_);
+    LeaseKeeper& lease = *chain.lease;
     try {
         if (config_.failEveryTask)
             throw std::runtime_error("this worker fails every task (--fail-every-task, for tests)");
@@ -161,52 +236,67 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
             cache.jobId = job.id;
         }
         RenderSession& session = *cache.session;
-        std::unique_ptr<Film> film = session.makeFilm();
-        TaskResult result;
-        result.width = film->width();
-        result.height = film->height();
+        const bool passImages = cache.settings.targetError > 0;
+        // A target error's passes go one task at a time, as images the consolidation replays in
+        // order; other tasks add to the held film.
+        std::unique_ptr<Film> own;
+        if (passImages) own = session.makeFilm();
+        if (!passImages && !chain.film) chain.film = session.makeFilm();
+        Film& film = passImages ? *own : *chain.film;
+        const int before = film.passes();
         RenderCallbacks callbacks;
         callbacks.cancel = &lease.cancel;
         // The time limit counts from the job's start, whichever worker renders.
-        callbacks.timeLimit = TimeLimitOptions{std::max(0.0, unixNow() - job.startedAt), true};
-        if (cache.settings.targetError > 0)
-            callbacks.onPassImage = [&result](int pass, const std::vector<Color>& image,
-                                              uint64_t dropped) {
-                appendPassImage(result.passImages, pass, dropped, image);
+        callbacks.timeLimit = TimeLimitOptions{claimed.elapsedSeconds, true};
+        if (passImages)
+            callbacks.onPassImage = [&chain, &film](int pass, const std::vector<Color>& image,
+                                                    uint64_t dropped) {
+                appendPassImage(chain.passImages, film.width(), film.height(), pass, dropped,
+                                image);
             };
-        RangeResult range = session.renderRange(task.firstPass, task.lastPass, *film, callbacks);
+        RangeResult range = session.renderRange(task.firstPass, task.lastPass, film, callbacks);
         counters_.rays += range.rays;
-        counters_.passes += uint64_t(film->passes());
+        counters_.passes += uint64_t(film.passes() - before);
         counters_.renderSeconds.fetch_add(range.renderSeconds);
         if (range.stopReason == StopReason::Cancelled) {
-            if (!lease.lost) giveBack(worker, task);
+            // Some of this task's passes may be in the film: every task held goes back.
+            giveBack(worker, chain);
             return;
         }
-        if (cache.settings.targetError <= 0) result.film = film->toBytes();
-        result.passesDone = film->passes();
-        result.rays = range.rays;
-        result.renderSeconds = range.renderSeconds;
-        handIn(worker, task, result);
+        const int passesDone = film.passes() - before;
+        chain.done.push_back({task, passesDone, range.rays, range.renderSeconds});
+        chain.renderSeconds += range.renderSeconds;
+        if (passImages || passesDone < task.lastPass - task.firstPass ||
+            chain.renderSeconds >= chain.handInAfter)
+            handIn(worker, chain);
     } catch (const RenderCancelled&) {
-        if (!lease.lost) giveBack(worker, task);
+        giveBack(worker, chain);
     } catch (const StoreUnavailable& e) {
-        // Reading the job's assets or giving the task back: not the render's failure (no worker
-        // is blamed for PostgreSQL's outage); the lease expires and the task is rendered again.
+        // Reading the job's assets: not the render's failure (no worker is blamed for
+        // PostgreSQL's outage); the leases expire and the tasks are rendered again.
         spdlog::warn("worker {}: task {}-{} of job {}: {}; it will be rendered again", worker,
                      task.firstPass, task.lastPass, job.id, e.what());
+        chain.clear();
     } catch (const InputError& e) {
         cache = Cached{};
         try {
-            store_.failJob(task, e.what(), unixNow());
+            store_.failJob(task, e.what());
         } catch (const std::exception& again) {
             spdlog::error("worker {}: failing job {}: {}", worker, job.id, again.what());
         }
+        chain.clear();  // the job failed: what it held is of no use
     } catch (const std::exception& e) {
         cache = Cached{};
         spdlog::warn("worker {}: task {}-{} of job {} failed: {}", worker, task.firstPass,
                      task.lastPass, job.id, e.what());
+        {
+            // The failed task is counted against this worker; the others it held go back.
+            std::lock_guard lock(chain.held->mutex);
+            chain.held->tasks.pop_back();
+        }
+        giveBack(worker, chain);
         try {
-            store_.failTask(task, worker, e.what(), unixNow(), policy());
+            store_.failTask(task, worker, e.what(), policy());
         } catch (const std::exception& again) {
             spdlog::error("worker {}: recording a failed task: {}", worker, again.what());
         }

@@ -1,5 +1,15 @@
 // Workers of a scale-out (store/task.h): threads that claim tasks from the PostgreSQL store, render
-// their pass ranges through the render session, and hand in the results, which the store merges.
+// their pass ranges through the render session, and hand in the results, and the process's
+// consolidator (farm/consolidator.h), which merges the results of any process's workers.
+//
+// A worker goes on with the next task of the job it renders while the job has any, adding its
+// passes to the same film, and hands in the tasks it holds as one film when it has rendered
+// `handInSeconds` since its last hand-in, when the job has no task left for it, or when a time
+// limit cut a task short. Its first hand-in of a job is one task (the first preview comes soon),
+// each next one waits twice as long. Fewer, larger results: the bytes a job moves through the
+// store grow with its workers, not with its tasks. The leases of every task held are renewed
+// together; a render stopped (a cancel, the lease lost, shutdown) gives back the tasks held,
+// which are rendered again.
 // Run by `caustic worker` (no HTTP) and by `caustic serve --store postgresql://... --workers N`.
 // Each thread is a worker of its own in the store's list (host, cores, current task), renewed
 // every second while idle and with every heartbeat while rendering.
@@ -13,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "farm/consolidator.h"
 #include "jobs/worker_pool.h"
 #include "server_config.h"
 #include "store/postgres_job_store.h"
@@ -33,11 +44,15 @@ public:
 
 private:
     struct Cached;  // a job's loaded scene and render session, reused by its next task
+    struct Chain;   // the tasks of one job a worker rendered and holds, not yet handed in
 
     void run(int index);
-    void renderTask(const std::string& worker, const ClaimedTask& claimed, Cached& cache);
-    void handIn(const std::string& worker, const Task& task, const TaskResult& result);
-    void giveBack(const std::string& worker, const Task& task);
+    void renderTask(const std::string& worker, const ClaimedTask& claimed, Cached& cache,
+                    Chain& chain);
+    /// Hands in the tasks held (none is left held).
+    void handIn(const std::string& worker, Chain& chain);
+    /// Gives back the tasks held, unless their leases are lost (none is left held).
+    void giveBack(const std::string& worker, Chain& chain);
     FarmPolicy policy() const;
 
     const ServerConfig& config_;
@@ -45,6 +60,7 @@ private:
     RenderCounters& counters_;
     std::string prefix_;
     std::vector<std::thread> threads_;
+    std::unique_ptr<Consolidator> consolidator_;
     std::atomic<bool> stopping_{false};
     std::mutex mutex_;
     std::condition_variable wake_;

@@ -4,12 +4,11 @@
 #include "http/job_json.h"
 #include "http/problem.h"
 #include "http/routes.h"
-#include "jobs/clock.h"
 
 namespace caustic::server {
 namespace {
 
-Json workerJson(const WorkerInfo& w, double now) {
+Json workerJson(const WorkerInfo& w) {
     Json task = nullptr;
     if (w.current)
         task = {{"job", w.current->jobId},
@@ -21,7 +20,7 @@ Json workerJson(const WorkerInfo& w, double now) {
             {"threads", w.threads},
             {"started_at", w.startedAt},
             {"last_heartbeat", w.lastSeen},
-            {"seconds_since_heartbeat", std::max(0.0, now - w.lastSeen)},
+            {"seconds_since_heartbeat", w.secondsSinceSeen},
             {"task", task},
             {"tasks_done", w.tasksDone},
             {"tasks_failed", w.tasksFailed}};
@@ -33,11 +32,10 @@ void registerFarmRoutes(httplib::Server& http, ApiContext& api) {
     using Req = const httplib::Request&;
     using Res = httplib::Response&;
     http.Get("/api/workers", [&api](Req, Res res) {
-        const double now = unixNow();
         Json workers = Json::array();
         if (api.farm)
-            for (const WorkerInfo& w : api.farm->listWorkers(now - kWorkerAliveSeconds))
-                workers.push_back(workerJson(w, now));
+            for (const WorkerInfo& w : api.farm->listWorkers(kWorkerAliveSeconds))
+                workers.push_back(workerJson(w));
         sendJson(res, 200, {{"store", api.farm ? "postgresql" : "sqlite"}, {"workers", workers}});
     });
     http.Post("/api/jobs/([0-9a-f]{32})/requeue", [&api](Req req, Res res) {

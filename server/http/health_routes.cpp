@@ -43,15 +43,14 @@ void storageMetrics(ApiContext& api, std::ostream& out) {
 // A store shared with worker processes (PostgreSQL): the work waiting for them, and how many are
 // alive, to scale workers on.
 void farmMetrics(FarmStore& farm, std::ostream& out) {
-    const double now = unixNow();
     out << "# HELP caustic_queued_tasks Tasks (pass ranges of split jobs) waiting for a worker, "
            "expired leases included.\n"
            "# TYPE caustic_queued_tasks gauge\n"
-        << "caustic_queued_tasks " << farm.queuedTasks(now) << "\n"
+        << "caustic_queued_tasks " << farm.queuedTasks() << "\n"
         << "# HELP caustic_workers Worker threads of every process that renewed their row in the "
            "last 30 s (GET /api/workers).\n"
            "# TYPE caustic_workers gauge\n"
-        << "caustic_workers " << farm.listWorkers(now - kWorkerAliveSeconds).size() << "\n";
+        << "caustic_workers " << farm.listWorkers(kWorkerAliveSeconds).size() << "\n";
 }
 
 std::string metricsText(ApiContext& api) {

@@ -14,12 +14,12 @@ namespace caustic::server {
 class FarmStore {
 public:
     virtual ~FarmStore() = default;
-    /// Workers seen since `seenSince` (Unix seconds), by id.
-    virtual std::vector<WorkerInfo> listWorkers(double seenSince) = 0;
-    /// Tasks waiting for a worker at `now` (Unix seconds): the queued tasks of queued or running
-    /// jobs whose cancel was not asked, and the running ones whose lease has expired (the next
-    /// claim puts them back in the queue). A worker blocked from a job may still not take them.
-    virtual int64_t queuedTasks(double now) = 0;
+    /// Workers seen in the last `aliveSeconds` (by the database's clock), by id.
+    virtual std::vector<WorkerInfo> listWorkers(double aliveSeconds) = 0;
+    /// Tasks waiting for a worker: the queued tasks of queued or running jobs whose cancel was
+    /// not asked, and the running ones whose lease has expired (the next claim puts them back in
+    /// the queue). A worker blocked from a job may still not take them.
+    virtual int64_t queuedTasks() = 0;
     /// Puts a failed or cancelled split job back in the queue; its finished tasks stay finished.
     /// Returns the job after the change; nothing for an unknown id.
     virtual std::optional<Job> requeue(const std::string& id) = 0;

@@ -1,10 +1,12 @@
-// Each pass's image of a task, as a target-error job hands them in (store/task.h): the merge
-// replays them in index order. Per pass: int32 index, uint64 dropped samples, then width x height
-// RGB floats; native byte order (every node of one farm runs the same build).
+// Each pass's image of a task, as a target-error job hands them in (store/task.h): the
+// consolidation replays them in index order. A header (magic, width, height as int32), then per
+// pass: int32 index, uint64 dropped samples, then width x height RGB floats; native byte order
+// (every node of one farm runs the same build).
 #pragma once
 
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,20 +20,41 @@ struct PassImage {
     std::vector<Color> image;
 };
 
-inline void appendPassImage(std::string& out, int index, uint64_t dropped,
+struct PassImages {
+    int width = 0, height = 0;
+    std::vector<PassImage> passes;
+};
+
+inline constexpr char kPassImagesMagic[8] = {'C', 'P', 'A', 'S', 'S', '0', '0', '2'};
+
+/// Appends one pass to `out`, which starts with the header when empty.
+inline void appendPassImage(std::string& out, int width, int height, int index, uint64_t dropped,
                             const std::vector<Color>& image) {
+    if (out.empty()) {
+        out.append(kPassImagesMagic, sizeof kPassImagesMagic);
+        const int32_t size[2] = {width, height};
+        out.append(reinterpret_cast<const char*>(size), sizeof size);
+    }
     const int32_t i = index;
     out.append(reinterpret_cast<const char*>(&i), sizeof i);
     out.append(reinterpret_cast<const char*>(&dropped), sizeof dropped);
     out.append(reinterpret_cast<const char*>(image.data()), image.size() * sizeof(Color));
 }
 
-/// The passes of `bytes`, each of `pixels` pixels; empty when the bytes do not hold whole passes.
-inline std::vector<PassImage> readPassImages(const std::string& bytes, size_t pixels) {
+/// The passes of `bytes`; nothing when the bytes are not a header and whole passes.
+inline std::optional<PassImages> readPassImages(const std::string& bytes) {
+    constexpr size_t kHeader = sizeof kPassImagesMagic + 2 * sizeof(int32_t);
+    if (bytes.size() < kHeader ||
+        std::memcmp(bytes.data(), kPassImagesMagic, sizeof kPassImagesMagic) != 0)
+        return std::nullopt;
+    int32_t size[2];
+    std::memcpy(size, bytes.data() + sizeof kPassImagesMagic, sizeof size);
+    if (size[0] <= 0 || size[1] <= 0) return std::nullopt;
+    PassImages result{size[0], size[1], {}};
+    const size_t pixels = size_t(size[0]) * size_t(size[1]);
     const size_t each = sizeof(int32_t) + sizeof(uint64_t) + pixels * sizeof(Color);
-    std::vector<PassImage> passes;
-    if (each == 0 || bytes.size() % each != 0) return passes;
-    for (size_t at = 0; at < bytes.size(); at += each) {
+    if ((bytes.size() - kHeader) % each != 0) return std::nullopt;
+    for (size_t at = kHeader; at < bytes.size(); at += each) {
         PassImage p;
         int32_t i = 0;
         std::memcpy(&i, bytes.data() + at, sizeof i);
@@ -40,9 +63,9 @@ inline std::vector<PassImage> readPassImages(const std::string& bytes, size_t pi
         p.image.resize(pixels);
         std::memcpy(static_cast<void*>(p.image.data()),
                     bytes.data() + at + sizeof i + sizeof p.dropped, pixels * sizeof(Color));
-        passes.push_back(std::move(p));
+        result.passes.push_back(std::move(p));
     }
-    return passes;
+    return result;
 }
 
 }  // namespace caustic::server

@@ -53,7 +53,7 @@ int64_t totalBytes(pqxx::work& tx) {
 
 AssetInsert PostgresJobStore::insertAsset(Asset& asset, const std::string& bytes,
                                           int64_t maxTotalBytes) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         tx.exec_params("SELECT pg_advisory_xact_lock($1)", kAssetInsertLock);
         tx.exec_params("UPDATE assets SET last_used_at = GREATEST(last_used_at, $2) WHERE id = $1",
                        asset.id, asset.lastUsedAt);
@@ -77,11 +77,11 @@ AssetInsert PostgresJobStore::insertAsset(Asset& asset, const std::string& bytes
 }
 
 std::optional<Asset> PostgresJobStore::getAsset(const std::string& id) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) { return findAsset(tx, id); });
+    return transact(*pool_, [&](pqxx::work& tx) { return findAsset(tx, id); });
 }
 
 std::shared_ptr<const std::string> PostgresJobStore::assetBytes(const std::string& id) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         pqxx::result r = tx.exec_params("SELECT data FROM assets WHERE id = $1", id);
         if (r.empty()) return std::shared_ptr<const std::string>();
         return std::make_shared<const std::string>(pqxx::binarystring(r[0][0]).str());
@@ -89,7 +89,7 @@ std::shared_ptr<const std::string> PostgresJobStore::assetBytes(const std::strin
 }
 
 AssetPage PostgresJobStore::listAssets(int limit, std::optional<int64_t> before) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         AssetPage page;
         for (const pqxx::row& r :
              tx.exec_params(selectAssets("WHERE seq < $1 ORDER BY seq DESC LIMIT $2"),
@@ -101,7 +101,7 @@ AssetPage PostgresJobStore::listAssets(int limit, std::optional<int64_t> before)
 }
 
 AssetRemoval PostgresJobStore::removeAsset(const std::string& id) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         // The row lock orders this against a job's insert (holdAssets updates the row): either
         // the job is seen below, or the job finds no asset.
         if (tx.exec_params("SELECT 1 FROM assets WHERE id = $1 FOR UPDATE", id).empty())
@@ -119,7 +119,7 @@ AssetRemoval PostgresJobStore::removeAsset(const std::string& id) {
 }
 
 std::vector<std::string> PostgresJobStore::removeUnusedAssets(double unusedSince) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         std::vector<std::string> removed;
         for (const pqxx::row& r :
              tx.exec_params("DELETE FROM assets WHERE last_used_at < $1 AND NOT EXISTS (SELECT 1 "
@@ -131,15 +131,15 @@ std::vector<std::string> PostgresJobStore::removeUnusedAssets(double unusedSince
 }
 
 int64_t PostgresJobStore::assetBytesTotal() {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) { return totalBytes(tx); });
+    return transact(*pool_, [&](pqxx::work& tx) { return totalBytes(tx); });
 }
 
 void PostgresJobStore::reclaimSpace() {
     // VACUUM cannot run in a transaction block. Autovacuum does the same in its own time; this
     // makes the space of the rows retention just removed reusable (and gives back the tables'
     // empty tails) now.
-    std::lock_guard lock(mutex_);
-    pqxx::nontransaction tx(connection_->get());
+    postgres::Pool::Lease connection = pool_->acquire();
+    pqxx::nontransaction tx(connection.get());
     tx.exec("VACUUM jobs, idempotency, assets, job_assets");
 }
 

@@ -7,7 +7,7 @@ using postgres::transact;
 
 bool PostgresJobStore::putFile(const std::string& id, int attempt, const std::string& name,
                                const std::string& bytes) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         // The job's row lock orders this against a newer claim: a write of an old attempt that
         // commits after the claim finds another attempt and writes nothing.
         return !tx.exec_params(
@@ -23,7 +23,7 @@ bool PostgresJobStore::putFile(const std::string& id, int attempt, const std::st
 
 std::optional<std::string> PostgresJobStore::getFile(const std::string& id,
                                                      const std::string& name) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) -> std::optional<std::string> {
+    return transact(*pool_, [&](pqxx::work& tx) -> std::optional<std::string> {
         pqxx::result r =
             tx.exec_params("SELECT data FROM job_files WHERE job_id = $1 AND name = $2", id, name);
         if (r.empty()) return std::nullopt;
@@ -32,7 +32,7 @@ std::optional<std::string> PostgresJobStore::getFile(const std::string& id,
 }
 
 void PostgresJobStore::removeFiles(const std::string& id, const std::string& name) {
-    transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    transact(*pool_, [&](pqxx::work& tx) {
         if (name.empty())
             tx.exec_params("DELETE FROM job_files WHERE job_id = $1", id);
         else

@@ -104,9 +104,9 @@ void holdAssets(pqxx::work& tx, const Job& job) {
 
 }  // namespace
 
-PostgresJobStore::PostgresJobStore(const std::string& conninfo, double waitSeconds)
-    : connection_(std::make_unique<postgres::Connection>()) {
-    connection_->conninfo = conninfo;
+PostgresJobStore::PostgresJobStore(const std::string& conninfo, double waitSeconds,
+                                   const std::string& name)
+    : pool_(std::make_unique<postgres::Pool>(conninfo, name)) {
     // Processes started together (a compose project, a cluster's services) may come up before
     // the database accepts connections: try again once a second until the wait is over.
     using Clock = std::chrono::steady_clock;
@@ -115,11 +115,10 @@ PostgresJobStore::PostgresJobStore(const std::string& conninfo, double waitSecon
         std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(waitSeconds));
     for (int attempt = 1;; ++attempt) {
         try {
-            postgres::migrate(connection_->get());
+            postgres::migrate(*pool_->connect());
             if (attempt > 1) spdlog::info("the PostgreSQL store answered (attempt {})", attempt);
             return;
         } catch (const pqxx::broken_connection& e) {
-            connection_->link.reset();
             if (Clock::now() >= deadline) {
                 std::ostringstream what;
                 what << "cannot connect to the PostgreSQL store";
@@ -144,7 +143,7 @@ int PostgresJobStore::schemaVersion() {
 
 std::optional<StoredResponse> PostgresJobStore::insert(Job& job, const std::string& key,
                                                        const StoredResponse& response) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) -> std::optional<StoredResponse> {
+    return transact(*pool_, [&](pqxx::work& tx) -> std::optional<StoredResponse> {
         if (!key.empty()) {
             // The key first: a concurrent insert of the same key waits here for the other's
             // outcome, then finds its response (or, if that rolled back, takes the key).
@@ -177,7 +176,7 @@ std::optional<StoredResponse> PostgresJobStore::insert(Job& job, const std::stri
 }
 
 std::optional<StoredResponse> PostgresJobStore::storedResponse(const std::string& key) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) -> std::optional<StoredResponse> {
+    return transact(*pool_, [&](pqxx::work& tx) -> std::optional<StoredResponse> {
         pqxx::result r = tx.exec_params(
             "SELECT request_hash, status, body, job_id FROM idempotency WHERE key = $1", key);
         if (r.empty()) return std::nullopt;
@@ -186,12 +185,12 @@ std::optional<StoredResponse> PostgresJobStore::storedResponse(const std::string
 }
 
 std::optional<Job> PostgresJobStore::get(const std::string& id) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) { return getJob(tx, id); });
+    return transact(*pool_, [&](pqxx::work& tx) { return getJob(tx, id); });
 }
 
 JobPage PostgresJobStore::list(std::optional<JobState> state, int limit,
                                std::optional<int64_t> before) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         JobPage page;
         for (const pqxx::row& r : tx.exec_params(
                  selectJobs(
@@ -205,7 +204,7 @@ JobPage PostgresJobStore::list(std::optional<JobState> state, int limit,
 }
 
 std::map<JobState, int64_t> PostgresJobStore::countByState() {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         std::map<JobState, int64_t> counts;
         for (JobState s : {JobState::Queued, JobState::Running, JobState::Succeeded,
                            JobState::Failed, JobState::Cancelled})
@@ -224,7 +223,7 @@ std::optional<Job> PostgresJobStore::claim(const std::string& owner, double now,
     // whoever holds them settles them, or the next claim does.
     const std::string expired =
         "seq IN (SELECT seq FROM jobs WHERE state = 'running' AND lease_expires <= $1 ";
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) -> std::optional<Job> {
+    return transact(*pool_, [&](pqxx::work& tx) -> std::optional<Job> {
         // Expired leases: a cancelled request ends the job; a job that stalled too often fails;
         // the rest go back to the queue in their submission order.
         tx.exec_params(
@@ -267,7 +266,7 @@ std::optional<Job> PostgresJobStore::claim(const std::string& owner, double now,
 }
 
 int PostgresJobStore::expireLeasesNotOwnedBy(const std::string& owner, bool blame) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         int n = 0;
         if (!blame)
             n += int(tx.exec_params("UPDATE jobs SET state = 'queued', lease_owner = '', "
@@ -285,7 +284,7 @@ int PostgresJobStore::expireLeasesNotOwnedBy(const std::string& owner, bool blam
 
 LeaseStatus PostgresJobStore::heartbeat(const std::string& id, int attempt, double now,
                                         double leaseSeconds) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         pqxx::result r = tx.exec_params(
             "UPDATE jobs SET lease_expires = $3 WHERE id = $1 AND attempt = $2 AND state = "
             "'running' RETURNING cancel_requested",
@@ -298,7 +297,7 @@ LeaseStatus PostgresJobStore::heartbeat(const std::string& id, int attempt, doub
 bool PostgresJobStore::recordPass(const std::string& id, int attempt, double progress,
                                   int passesDone, int passesTotal, double relativeError,
                                   double etaSeconds, const Json& convergencePoint) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         notifyJobs(tx);
         return tx.exec_params(
                      "UPDATE jobs SET progress = $3, passes_done = $4, passes_total = $5, "
@@ -313,7 +312,7 @@ bool PostgresJobStore::recordPass(const std::string& id, int attempt, double pro
 
 bool PostgresJobStore::finish(const std::string& id, int attempt, JobState state, const Json& stats,
                               const std::string& error, double now) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         notifyJobs(tx);
         return tx.exec_params(
                      "UPDATE jobs SET state = $3, stats = $4, error = $5, finished_at = "
@@ -326,7 +325,7 @@ bool PostgresJobStore::finish(const std::string& id, int attempt, JobState state
 }
 
 std::optional<Job> PostgresJobStore::cancel(const std::string& id, double now) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         tx.exec_params(
             "UPDATE jobs SET state = 'cancelled', finished_at = $2, error = 'cancelled "
             "before it started' WHERE id = $1 AND state = 'queued'",
@@ -345,7 +344,7 @@ std::optional<Job> PostgresJobStore::cancel(const std::string& id, double now) {
 }
 
 bool PostgresJobStore::remove(const std::string& id) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         tx.exec_params("DELETE FROM idempotency WHERE job_id = $1", id);
         tx.exec_params("DELETE FROM job_assets WHERE job_id = $1", id);
         notifyJobs(tx);
@@ -354,7 +353,7 @@ bool PostgresJobStore::remove(const std::string& id) {
 }
 
 std::vector<ExpiredJob> PostgresJobStore::expiredJobs(double finishedBefore, int64_t keepNewest) {
-    return transact(*connection_, mutex_, [&](pqxx::work& tx) {
+    return transact(*pool_, [&](pqxx::work& tx) {
         std::vector<ExpiredJob> expired;
         for (const pqxx::row& r : tx.exec_params(
                  "SELECT id, finished_at < $1 FROM (SELECT id, seq, finished_at, ROW_NUMBER() "

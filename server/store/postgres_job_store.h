@@ -4,13 +4,14 @@
 // every lease holder's write is fenced by attempt as on SQLite. The schema is versioned
 // (schema_migrations) and brought up to date when a store is opened.
 //
-// Thread-safe: one connection behind a mutex, every operation one short transaction (retried
-// after a deadlock, a serialization failure, or a connection that broke before the commit).
+// Thread-safe: a pool of connections, every operation one short transaction on a connection of its
+// own (store/postgres_transaction.h).
 #pragma once
 
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "store/farm_store.h"
 #include "store/job_store.h"
@@ -19,7 +20,7 @@
 namespace caustic::server {
 
 namespace postgres {
-struct Connection;
+class Pool;
 }
 
 class PostgresJobStore final : public JobStore, public FarmStore {
@@ -29,7 +30,9 @@ public:
     /// when it cannot connect, or when the database's schema is newer than this program's.
     /// Connects and migrates the schema; waits up to `waitSeconds` for a database that does not
     /// answer yet (then throws std::runtime_error).
-    explicit PostgresJobStore(const std::string& conninfo, double waitSeconds = 0);
+    /// `name` is the connections' application_name (pg_stat_activity): the process's role and id.
+    explicit PostgresJobStore(const std::string& conninfo, double waitSeconds = 0,
+                              const std::string& name = "caustic");
     ~PostgresJobStore() override;
     PostgresJobStore(const PostgresJobStore&) = delete;
     PostgresJobStore& operator=(const PostgresJobStore&) = delete;
@@ -82,34 +85,51 @@ public:
     // their tasks in insert()'s transaction and are rendered by tasks only (claim() skips them).
     /// Re-queues tasks whose leases expired (failing the jobs of those that stalled too often,
     /// ending cancelled jobs no task renders any more), then leases the next task to `worker`.
-    std::optional<ClaimedTask> claimTask(const std::string& worker, double now,
-                                         const FarmPolicy& policy);
-    /// Held, CancelRequested (the job's cancel was asked), or Lost (another attempt has the task,
-    /// or the job no longer needs it: it ended, or reached its target error).
-    LeaseStatus heartbeatTask(const Task& task, double now, double leaseSeconds);
-    /// Hands in a task's result: merges it into the job's film, and ends the job with its images
-    /// when nothing is left to render.
-    TaskCommit completeTask(const Task& task, const TaskResult& result, double now);
+    /// Of the queued tasks of the highest priority, those of job `prefer` come first (a worker
+    /// that holds some of its tasks goes on with it).
+    std::optional<ClaimedTask> claimTask(const std::string& worker, const FarmPolicy& policy,
+                                         const std::string& prefer = {});
+    /// Renews the leases of tasks one worker holds (of one job): Held, CancelRequested (the job's
+    /// cancel was asked), or Lost (another attempt has one of them, or the job no longer needs
+    /// them: it ended, or reached its target error).
+    LeaseStatus heartbeatTasks(const std::vector<Task>& tasks, double leaseSeconds);
+    LeaseStatus heartbeatTask(const Task& task, double leaseSeconds) {
+        return heartbeatTasks({task}, leaseSeconds);
+    }
+    /// Hands in tasks of one job and their result (a film of all their passes, or one task's
+    /// pass images): stores it for consolidation (Accepted), or, when one of them is no longer
+    /// its holder's, nothing (Fenced). A cancelled job whose last running tasks these were ends.
+    TaskCommit completeTasks(const std::vector<TaskDone>& tasks, const std::string& result);
+    TaskCommit completeTask(const Task& task, const TaskResult& result) {
+        return completeTasks({{task, result.passesDone, result.rays, result.renderSeconds}},
+                             result.passImages.empty() ? result.film : result.passImages);
+    }
+    /// Merges the results of job `id` that wait (store/task.h), at most one batch; ends the job
+    /// with its images when nothing is left to render. store/postgres_consolidation.cpp.
+    Consolidation consolidate(const std::string& id, const ConsolidationLimits& limits = {});
+    /// Running split jobs with results waiting whose last batch is `intervalSeconds` old, or
+    /// that have no task left to render (their last batch is due at once).
+    std::vector<std::string> jobsToConsolidate(double intervalSeconds);
     /// Gives a task back unrendered (its worker stops, or the job's cancel was asked): queued
     /// again; a cancelled job that no task renders any more ends cancelled.
-    void releaseTask(const Task& task, double now);
+    void releaseTasks(const std::vector<Task>& tasks);
+    void releaseTask(const Task& task) { releaseTasks({task}); }
     /// The render of a task failed on `worker`: the task is queued again, the worker's failures
     /// of the job counted; the job fails when policy.failAfterWorkers workers have failed it.
     /// Returns whether the job failed.
-    bool failTask(const Task& task, const std::string& worker, const std::string& error, double now,
+    bool failTask(const Task& task, const std::string& worker, const std::string& error,
                   const FarmPolicy& policy);
     /// Fails the job of a task with `error` (bad input: no other worker would do better).
-    bool failJob(const Task& task, const std::string& error, double now);
+    bool failJob(const Task& task, const std::string& error);
     std::optional<Job> requeue(const std::string& id) override;
-    /// Records that a worker is alive (and what it renders).
+    /// Records that a worker is alive (and what it renders), by the database's clock.
     void workerSeen(const WorkerInfo& worker);
     void workerGone(const std::string& id);
-    std::vector<WorkerInfo> listWorkers(double seenSince) override;
-    int64_t queuedTasks(double now) override;
+    std::vector<WorkerInfo> listWorkers(double aliveSeconds) override;
+    int64_t queuedTasks() override;
 
 private:
-    std::unique_ptr<postgres::Connection> connection_;
-    std::mutex mutex_;
+    std::unique_ptr<postgres::Pool> pool_;
 };
 
 }  // namespace caustic::server

@@ -125,6 +125,18 @@ CREATE TABLE task_failures (
 ALTER TABLE job_files ALTER COLUMN data SET STORAGE EXTERNAL;
 ALTER TABLE tasks ALTER COLUMN result SET STORAGE EXTERNAL;
 )sql"},
+        // Hand-ins store their results for consolidation (store/task.h): a result waits in its
+        // task's row until a batch merges it (tasks handed in together point at the row that
+        // holds their result: result_task); the job's last batch time paces the previews.
+        // Results of the earlier design were merged at hand-in (no result kept), except a
+        // target error's passes waiting for their turn.
+        {.version = 4, .sql = R"sql(
+ALTER TABLE tasks ADD COLUMN merged BOOLEAN NOT NULL DEFAULT FALSE;
+ALTER TABLE tasks ADD COLUMN result_task INTEGER;
+UPDATE tasks SET merged = (state = 'done' AND result IS NULL);
+CREATE INDEX tasks_waiting ON tasks (job_id, first_pass) WHERE state = 'done' AND NOT merged;
+ALTER TABLE jobs ADD COLUMN consolidated_at DOUBLE PRECISION NOT NULL DEFAULT 0;
+)sql"},
     };
     return all;
 }

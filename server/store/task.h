@@ -3,13 +3,18 @@
 //
 // Protocol. A worker claims the queued task of the highest-priority job, oldest job first, lowest
 // range first, with a lease (FOR UPDATE SKIP LOCKED: claimers never wait for each other). It
-// renews the lease by heartbeats, which also carry a cancellation, and hands in the task's result
-// fenced by the task's attempt: a result whose attempt is no longer the task's current one changes
-// nothing, so no pass is ever counted twice. Handing in merges the result into the job's film
-// under the job's row lock, exactly (film/exact_sum.h): the merged film is bit-identical to one
-// process's whatever the split and the order. A job with a target error merges passes in index
-// order and checks the error after each, as one process does (render/target_error_merge.h), so it
-// stops at the same pass. The worker that merges the last pass writes the images and ends the job.
+// renews the lease by heartbeats, which also carry a cancellation or the job's end, and hands in
+// the task's result fenced by the task's attempt: a result whose attempt is no longer the task's
+// current one changes nothing, so no pass is ever counted twice. A hand-in only stores the result
+// in the task's row (its film, compactly: film/film_bytes.cpp); it never reads the job's film nor
+// locks the job. Results are consolidated off the workers' path (farm/consolidator.h): one
+// process at a time per job (an advisory lock) merges the results waiting, in batches, into the
+// job's film exactly (film/exact_sum.h), so the merged film is bit-identical to one process's
+// whatever the split and the order; previews and progress follow each batch (about one a second).
+// A job with a target error merges passes in index order and checks the error after each, as one
+// process does (render/target_error_merge.h), so it stops at the same pass. The batch that merges
+// the last pass writes the images and ends the job. Every time (leases, time limits, liveness) is
+// the database's clock, never a worker's.
 //
 // Faults. A lease that expires (the worker was killed, its machine or network went) puts the task
 // back in the queue; a task whose leases expire `maxStalledLeases` times in a row fails the job. A
@@ -39,6 +44,7 @@ struct Task {
 struct ClaimedTask {
     Task task;
     Job job;
+    double elapsedSeconds = 0;  ///< Since the job started, by the database's clock.
 };
 
 /// The rules of claims and failures (store/task.h, "Faults").
@@ -53,8 +59,16 @@ struct FarmPolicy {
 struct TaskResult {
     int width = 0, height = 0;  ///< The film's.
     std::string film;        ///< Film::toBytes() of the passes rendered (a job without a target).
-    std::string passImages;  ///< Each pass's image (farm/pass_images.h), for a target error.
+    std::string passImages;  ///< Each pass's image (store/pass_images.h), for a target error.
     int passesDone = 0;      ///< Fewer than the range when a time limit cut it.
+    uint64_t rays = 0;
+    double renderSeconds = 0;
+};
+
+/// One task of a hand-in, as its worker rendered it.
+struct TaskDone {
+    Task task;
+    int passesDone = 0;  ///< Fewer than the range when a time limit cut it.
     uint64_t rays = 0;
     double renderSeconds = 0;
 };
@@ -62,8 +76,23 @@ struct TaskResult {
 /// What handing in did.
 enum class TaskCommit {
     Fenced,    ///< Not the task's current attempt (or the job ended): nothing changed.
-    Merged,    ///< Merged; the job goes on.
-    Finished,  ///< Merged, and the job succeeded: its images are written.
+    Accepted,  ///< Stored, for the job's consolidation.
+};
+
+/// What a consolidation batch did.
+enum class Consolidation {
+    Busy,      ///< Another process consolidates the job.
+    Nothing,   ///< No result could be merged (none waiting, or the job is not running).
+    Merged,    ///< Results merged; the job goes on.
+    More,      ///< Results merged, and more wait than one batch takes: call again.
+    Finished,  ///< The job ended: its images are written (or it failed: no pass in time).
+};
+
+/// How much one consolidation batch merges: at most `results` results and, past the first,
+/// stops after `seconds` of merging (a transaction that holds a job's results stays short).
+struct ConsolidationLimits {
+    int results = 64;
+    double seconds = 5;
 };
 
 /// A worker renews its row every second or so: one not seen for this long is gone.
@@ -75,6 +104,7 @@ struct WorkerInfo {
     std::string host;
     int cores = 0, threads = 0;
     double startedAt = 0, lastSeen = 0;
+    double secondsSinceSeen = 0;  ///< By the database's clock.
     std::optional<Task> current;  ///< The task it renders (attempt 0), if any.
     int64_t tasksDone = 0, tasksFailed = 0;
 };

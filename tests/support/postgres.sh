@@ -63,7 +63,7 @@ listen_addresses = '127.0.0.1'
 unix_socket_directories = ''
 fsync = off
 full_page_writes = off
-max_connections = 100
+max_connections = 300
 EOF
     # A port the kernel says is free; another process may take it before the server binds, so
     # try a few.

@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <memory>
+#include <random>
 #include <string>
 
 #include "film/image_io.h"
@@ -72,6 +74,73 @@ TEST(Film, BytesReproduceTheFilm) {
     EXPECT_FALSE(Film::fromBytes(bytes, 2, 3));
     EXPECT_FALSE(Film::fromBytes("CAUSTIC1", 2, 2));
     EXPECT_FALSE(Film::fromBytes("", 2, 2));
+}
+
+// decode(encode(f)) == f for the values that test each part of the encoding: zero, the smallest
+// quantum, negative sums (zigzag), values at the clamp (sums near 2^105 over many passes, squares
+// beyond 128 bits), NaN and infinities (counted, stored as 0 or clamped).
+TEST(Film, BytesAreExactAtTheExtremes) {
+    const int w = 7, h = 5;
+    Film film(w, h);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const float special[] = {0.0f,
+                             0x1p-60f,
+                             -0x1p-60f,
+                             0x1p-27f,
+                             -3.5f,
+                             1e-20f,
+                             0x1.fffffep34f,
+                             -0x1.fffffep34f,
+                             1e30f,
+                             -std::numeric_limits<float>::infinity(),
+                             std::numeric_limits<float>::quiet_NaN(),
+                             1234.5f,
+                             0x1p13f};
+    for (int pass = 0; pass < 40; ++pass) {
+        std::vector<Color> image(size_t(w) * h);
+        for (size_t i = 0; i < image.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                const size_t k = (i * 3 + size_t(c) + size_t(pass)) % (std::size(special) + 3);
+                image[i][c] =
+                    k < std::size(special) ? special[k] : u(rng) * std::pow(10.0f, 4 * u(rng));
+            }
+        film.addPass(pass * 3, image, uint64_t(pass));
+    }
+    const std::string bytes = film.toBytes();
+    std::unique_ptr<Film> copy = Film::fromBytes(bytes, w, h);
+    ASSERT_TRUE(copy);
+    EXPECT_TRUE(*copy == film);
+    EXPECT_EQ(copy->passSet().toString(), film.passSet().toString());
+    EXPECT_EQ(copy->clampedValues(), film.clampedValues());
+    // Every byte matters: a flipped bit anywhere is another film or none, never a crash.
+    for (size_t at = 40; at < bytes.size(); at += 3) {
+        std::string torn = bytes;
+        torn[at] = char(torn[at] ^ 0x10);
+        if (std::unique_ptr<Film> other = Film::fromBytes(torn, w, h)) {
+            EXPECT_FALSE(*other == film) << "byte " << at;
+        }
+    }
+}
+
+// A rendered-like film (smooth values with noise, a few fireflies) takes well under the memory's
+// 120 bytes a pixel.
+TEST(Film, BytesAreCompact) {
+    const int w = 64, h = 64;
+    Film film(w, h);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int pass = 0; pass < 8; ++pass) {
+        std::vector<Color> image(size_t(w) * h);
+        for (Color& c : image)
+            for (int k = 0; k < 3; ++k)
+                c[k] = u(rng) < 0.01f ? 100.0f * u(rng) : 0.5f * u(rng) * u(rng);
+        film.addPass(pass, image);
+    }
+    const std::string bytes = film.toBytes();
+    EXPECT_LT(bytes.size(), film.memoryBytes() / 2) << bytes.size() << " bytes";
+    ASSERT_TRUE(Film::fromBytes(bytes, w, h));
+    EXPECT_TRUE(*Film::fromBytes(bytes, w, h) == film);
 }
 
 TEST(ImageIo, ExrRoundTripIsExactAndPngIsSrgbEncoded) {
