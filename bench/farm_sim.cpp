@@ -105,7 +105,8 @@ std::string relabel(const std::string& film, std::vector<Task> tasks) {
 
 struct WorkerTimes {
     double claims = 0, heartbeats = 0, handIns = 0, rendering = 0;
-    std::vector<double> handIn;  ///< Each hand-in's seconds.
+    Clock::time_point lastHandIn{};  ///< When its last hand-in returned.
+    std::vector<double> handIn;      ///< Each hand-in's seconds.
     int tasks = 0;
     int errors = 0;  ///< Store calls that threw (a worker logs them and goes on).
 };
@@ -114,17 +115,18 @@ struct Run {
     int workers = 0, tasks = 0;
     double wall = 0;
     std::string state;  ///< How the job ended.
+    double tail = 0;    ///< From the last hand-in to the job's end (its last consolidation).
     WorkerTimes sum;
 };
 
 constexpr FarmPolicy kPolicy{.leaseSeconds = 10};
 
 // A worker as farm/task_workers.cpp runs one: it goes on with its job's next task and hands in
-// the tasks it holds as one film once it rendered `handInSeconds` since its last hand-in (its
-// first hand-in one task, each next twice as long), or when the job has no task left for it.
-void work(const std::string& url, const std::string& id, const TaskTemplate& t,
-          double handInSeconds, Consolidator& consolidator, std::atomic<bool>& done,
-          WorkerTimes& times) {
+// the tasks it holds as one film once it rendered a second per worker on the job since its last
+// hand-in (at most `handInSeconds`), or when the job has no task left for it.
+void work(const std::string& url, const std::string& worker, const std::string& id,
+          const TaskTemplate& t, double handInSeconds, Consolidator& consolidator,
+          std::atomic<bool>& done, WorkerTimes& times) {
     PostgresJobStore store(url, 10, "farm_sim-worker");
     const double renderSeconds = t.passSeconds * t.passes;
     std::vector<TaskDone> held;
@@ -138,14 +140,14 @@ void work(const std::string& url, const std::string& id, const TaskTemplate& t,
         const double seconds = since(start);
         times.handIns += seconds;
         times.handIn.push_back(seconds);
+        times.lastHandIn = Clock::now();
         times.tasks += int(held.size());
         held.clear();
         heldSeconds = 0;
-        handInAfter = std::min(handInSeconds, std::max(1.0, 2 * handInAfter));
     };
     while (!done) try {
             auto start = Clock::now();
-            std::optional<ClaimedTask> claimed = store.claimTask(id, kPolicy, id);
+            std::optional<ClaimedTask> claimed = store.claimTask(worker, kPolicy, id);
             times.claims += since(start);
             if (!claimed) {
                 if (!held.empty()) handIn();
@@ -154,6 +156,7 @@ void work(const std::string& url, const std::string& id, const TaskTemplate& t,
                 continue;
             }
             const Task& task = claimed->task;
+            handInAfter = std::min(handInSeconds, claimed->workersOnJob * 1.0);
             // The render: a sleep, the held tasks' heartbeat a second as the lease keeper sends
             // them (counted as the queue's time, though a real worker's lease thread does not stop
             // its render).
@@ -208,9 +211,11 @@ Run runFarm(const std::string& url, PostgresJobStore& store, const TaskTemplate&
     Consolidator consolidator(consolidatorStore);
     std::vector<std::thread> threads;
     for (int i = 0; i < workers; ++i)
-        threads.emplace_back(
-            [&, i] { work(url, job.id, t, handInSeconds, consolidator, done, times[size_t(i)]); });
-    Run run{workers, tasks, 0, {}, {}};
+        threads.emplace_back([&, i] {
+            work(url, "sim-worker-" + std::to_string(i), job.id, t, handInSeconds, consolidator,
+                 done, times[size_t(i)]);
+        });
+    Run run{workers, tasks, 0, {}, 0, {}};
     while (true) {
         std::optional<Job> now = store.get(job.id);
         if (!now || (now->state != JobState::Queued && now->state != JobState::Running)) {
@@ -225,7 +230,11 @@ Run runFarm(const std::string& url, PostgresJobStore& store, const TaskTemplate&
     }
     done = true;
     for (std::thread& thread : threads) thread.join();
+    const auto end = start + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>(run.wall));
+    Clock::time_point lastHandIn = start;
     for (const WorkerTimes& w : times) {
+        lastHandIn = std::max(lastHandIn, w.lastHandIn);
         run.sum.claims += w.claims;
         run.sum.heartbeats += w.heartbeats;
         run.sum.handIns += w.handIns;
@@ -234,6 +243,7 @@ Run runFarm(const std::string& url, PostgresJobStore& store, const TaskTemplate&
         run.sum.errors += w.errors;
         run.sum.handIn.insert(run.sum.handIn.end(), w.handIn.begin(), w.handIn.end());
     }
+    run.tail = std::chrono::duration<double>(end - lastHandIn).count();
     store.remove(job.id);
     return run;
 }
@@ -287,7 +297,7 @@ int main(int argc, char** argv) {
             << "| image | workers | tasks | job | task render s | wall s | speedup | speedup / N "
                "| queue share | hand-in median ms | hand-in p99 ms | result bytes/px | "
                "store errors |\n"
-               "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+               "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         for (int size : sizes) {
             const TaskTemplate t = renderTemplate(size, taskPasses);
             PostgresJobStore store(url);
@@ -306,7 +316,8 @@ int main(int argc, char** argv) {
                           << bench::fmt("%.1f", 1000 * bench::median(run.sum.handIn)) << " | "
                           << bench::fmt("%.1f", 1000 * percentile(run.sum.handIn, 0.99)) << " | "
                           << bench::fmt("%.1f", double(t.film.size()) / (double(size) * size))
-                          << " | " << run.sum.errors << " |\n"
+                          << " | " << bench::fmt("%.2f", run.tail) << " | " << run.sum.errors
+                          << " |\n"
                           << std::flush;
             }
         }

@@ -51,9 +51,10 @@ void addStoreOptions(CLI::App& app, server::ServerConfig& c, bool required) {
               "Passes per task of a job that sets no task_passes: a job's passes are rendered "
               "in tasks this size, merged exactly");
     addNumber(farm, "--hand-in-seconds", c.handInSeconds, 0, 3600,
-              "Render seconds a worker goes on with one job's tasks before it hands them in as "
-              "one film (its first hand-in of a job is one task, each next twice as long up to "
-              "this): fewer, larger results; 0 hands in every task");
+              "The most render seconds a worker goes on with one job's tasks before it hands "
+              "them in as one film (it waits a second for each worker on the job, so that the "
+              "job gets about one result a second): what a lost worker costs at most; 0 hands "
+              "in every task");
     addNumber(farm, "--block-after-failures", c.blockAfterFailures, 1, 1000,
               "Failed tasks of a job after which a worker stops taking that job's tasks");
     addNumber(farm, "--fail-after-workers", c.failAfterWorkers, 1, 1000,

@@ -5,14 +5,15 @@
 // Format 3 (written): the exact integers hold far fewer significant bits than their 128- and
 // 192-bit slots. A pass value is a float times 2^50 (film/exact_sum.h), so a sum's low bits are
 // zero below its smallest addend's last bit, and its high bits are zero above its magnitude. Each
-// integer (sums zigzag-encoded, as protobuf's sint) is written as its count of trailing zero bits
-// (one byte, 0xFF for zero) and the rest in LEB128 (7 bits a byte). The shift bytes come first,
-// then the digits, and the whole is compressed with zstd (level 1: the shifts repeat, the digits
-// hardly compress). Format 2 (read only: checkpoints of earlier versions): the accumulators as they
-// are in memory.
+// integer (sums zigzag-encoded, as protobuf's sint) is written as two bytes, its count of trailing
+// zero bits and the count of bytes left (0 for zero), and those bytes, least significant first.
+// The pairs come first, then the digits, and the whole is compressed with zstd (level 1: the
+// pairs repeat, the digits hardly compress), with a checksum of the content. Format 2 (read only:
+// checkpoints of earlier versions): the accumulators as they are in memory.
 #include <zstd.h>
 
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 
 #include "film/film.h"
@@ -22,9 +23,8 @@ namespace {
 
 constexpr char kMagic[8] = {'C', 'F', 'I', 'L', 'M', '0', '0', '3'};
 constexpr char kMagicRaw[8] = {'C', 'F', 'I', 'L', 'M', '0', '0', '2'};
-constexpr uint8_t kZero = 0xFF;
-// At most one shift byte and ceil(192 / 7) digit bytes an integer.
-constexpr size_t kMaxBytesPerInteger = 1 + 28;
+// At most two bytes of shift and length and 24 digit bytes an integer.
+constexpr size_t kMaxBytesPerInteger = 2 + 24;
 
 struct Header {
     char magic[8];
@@ -85,50 +85,39 @@ exact::Int128 unzigzag(const Limbs& l) {
     return exact::Int128(u >> 1) ^ -exact::Int128(u & 1);
 }
 
-void put(std::string& shifts, std::string& digits, Limbs v) {
+// Appends `v`'s shift and length to `heads` and its significant bytes to `digits`.
+void put(std::string& heads, std::string& digits, Limbs v) {
     if (v.zero()) {
-        shifts.push_back(char(kZero));
+        heads.append(2, '\0');
         return;
     }
     const int tz = v.trailingZeros();
-    shifts.push_back(char(tz));
     v.shiftRight(tz);
-    while (v.w[1] | v.w[2]) {
-        digits.push_back(char(0x80 | (v.w[0] & 0x7F)));
-        v.shiftRight(7);
-    }
-    uint64_t low = v.w[0];
-    while (low >= 0x80) {
-        digits.push_back(char(0x80 | (low & 0x7F)));
-        low >>= 7;
-    }
-    digits.push_back(char(low));
+    const int top = v.w[2]   ? 128 + 63 - __builtin_clzll(v.w[2])
+                    : v.w[1] ? 64 + 63 - __builtin_clzll(v.w[1])
+                             : 63 - __builtin_clzll(v.w[0]);
+    const int bytes = top / 8 + 1;
+    heads.push_back(char(tz));
+    heads.push_back(char(bytes));
+    digits.append(reinterpret_cast<const char*>(v.w), size_t(bytes));  // little-endian limbs
 }
 
-// Reads one integer of its shift byte and digits at `at`; false when the digits run out or the
-// value does not fit `bits` bits.
-bool get(uint8_t shift, std::string_view digits, size_t& at, int bits, Limbs& v) {
+// Reads the integer of head (`tz`, `bytes`) from `digits` at `at`; false when the digits run out
+// or the value does not fit `bits` bits.
+bool get(uint8_t tz, uint8_t bytes, std::string_view digits, size_t& at, int bits, Limbs& v) {
     v = Limbs{};
-    if (shift == kZero) return true;
-    if (shift >= bits) return false;
-    int position = 0;
-    while (true) {
-        if (at >= digits.size() || position >= bits - shift) return false;
-        const auto byte = uint8_t(digits[at++]);
-        Limbs part{{uint64_t(byte & 0x7F), 0, 0}};
-        part.shiftLeft(position);
-        for (int i = 0; i < 3; ++i) v.w[i] |= part.w[i];
-        position += 7;
-        if (!(byte & 0x80)) break;
-    }
+    if (bytes == 0) return true;
+    if (bytes > bits / 8 || tz >= bits || digits.size() - at < bytes) return false;
+    std::memcpy(v.w, digits.data() + at, bytes);
+    at += bytes;
+    if (tz == 0) return true;
+    // The shifted value must still fit: its top bit below `bits`.
+    Limbs back = v;
+    v.shiftLeft(tz);
     Limbs check = v;
-    check.shiftLeft(shift);
-    Limbs back = check;
-    back.shiftRight(shift);
-    if (back.w[0] != v.w[0] || back.w[1] != v.w[1] || back.w[2] != v.w[2]) return false;
-    if (bits == 128 && check.w[2]) return false;
-    v = check;
-    return true;
+    check.shiftRight(tz);
+    if (check.w[0] != back.w[0] || check.w[1] != back.w[1] || check.w[2] != back.w[2]) return false;
+    return bits == 192 || v.w[2] == 0;
 }
 
 }  // namespace
@@ -148,7 +137,7 @@ std::string Film::toBytes() const {
         append(out, pair, 2);
     }
     std::string plain, digits;
-    plain.reserve(sum_.size() + sumSq_.size());
+    plain.reserve(2 * (sum_.size() + sumSq_.size()));
     digits.reserve(8 * (sum_.size() + sumSq_.size()));
     for (exact::Int128 v : sum_) put(plain, digits, zigzag(v));
     for (const exact::Wide192& v : sumSq_)
@@ -158,8 +147,13 @@ std::string Film::toBytes() const {
     append(out, &plainBytes, 1);
     const size_t at = out.size();
     out.resize(at + ZSTD_compressBound(plain.size()));
-    const size_t packed = ZSTD_compress(out.data() + at, out.size() - at, plain.data(),
-                                        plain.size(), /*compressionLevel=*/1);
+    // With a checksum of the content: a damaged film is refused, never merged as another.
+    static thread_local std::unique_ptr<ZSTD_CCtx, size_t (*)(ZSTD_CCtx*)> context(
+        ZSTD_createCCtx(), ZSTD_freeCCtx);
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, 1);
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
+    const size_t packed =
+        ZSTD_compress2(context.get(), out.data() + at, out.size() - at, plain.data(), plain.size());
     if (ZSTD_isError(packed))
         throw std::runtime_error(std::string("compressing a film: ") + ZSTD_getErrorName(packed));
     out.resize(at + packed);
@@ -212,7 +206,7 @@ bool Film::readCompact(std::string_view bytes) {
     const size_t count = sum_.size() + sumSq_.size();
     uint64_t plainBytes = 0;
     size_t at = 0;
-    if (!take(bytes, at, &plainBytes, 1) || plainBytes < count ||
+    if (!take(bytes, at, &plainBytes, 1) || plainBytes < 2 * count ||
         plainBytes > count * kMaxBytesPerInteger ||
         ZSTD_getFrameContentSize(bytes.data() + at, bytes.size() - at) != plainBytes)
         return false;
@@ -220,16 +214,16 @@ bool Film::readCompact(std::string_view bytes) {
     const size_t n =
         ZSTD_decompress(plain.data(), plain.size(), bytes.data() + at, bytes.size() - at);
     if (ZSTD_isError(n) || n != plainBytes) return false;
-    const std::string_view shifts = std::string_view(plain).substr(0, count);
-    const std::string_view digits = std::string_view(plain).substr(count);
+    const auto* heads = reinterpret_cast<const uint8_t*>(plain.data());
+    const std::string_view digits = std::string_view(plain).substr(2 * count);
     size_t next = 0;
     Limbs v;
-    for (size_t i = 0; i < sum_.size(); ++i) {
-        if (!get(uint8_t(shifts[i]), digits, next, 128, v)) return false;
+    for (size_t i = 0; i < sum_.size(); ++i, heads += 2) {
+        if (!get(heads[0], heads[1], digits, next, 128, v)) return false;
         sum_[i] = unzigzag(v);
     }
-    for (size_t i = 0; i < sumSq_.size(); ++i) {
-        if (!get(uint8_t(shifts[sum_.size() + i]), digits, next, 192, v)) return false;
+    for (size_t i = 0; i < sumSq_.size(); ++i, heads += 2) {
+        if (!get(heads[0], heads[1], digits, next, 192, v)) return false;
         sumSq_[i] = exact::Wide192{{v.w[0], v.w[1], v.w[2]}};
     }
     return next == digits.size();

@@ -172,8 +172,6 @@ void TaskWorkers::handIn(const std::string& worker, Chain& chain) {
                      worker, chain.done.size(), chain.jobId, e.what());
     }
     chain.clear();
-    // The next hand-in of this job waits twice as long, up to --hand-in-seconds.
-    chain.handInAfter = std::min(config_.handInSeconds, std::max(1.0, 2 * chain.handInAfter));
 }
 
 void TaskWorkers::giveBack(const std::string& worker, Chain& chain) {
@@ -197,10 +195,9 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
                              Chain& chain) {
     const Task& task = claimed.task;
     const Job& job = claimed.job;
-    if (chain.jobId != job.id) {
-        chain.jobId = job.id;
-        chain.handInAfter = 0;  // a job's first hand-in is one task
-    }
+    chain.jobId = job.id;
+    // About one result a second for the job, whatever the number of its workers.
+    chain.handInAfter = std::min(config_.handInSeconds, claimed.workersOnJob * 1.0);
     {
         std::lock_guard lock(chain.held->mutex);
         chain.held->tasks.push_back(task);

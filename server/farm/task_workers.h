@@ -3,16 +3,13 @@
 // consolidator (farm/consolidator.h), which merges the results of any process's workers.
 //
 // A worker goes on with the next task of the job it renders while the job has any, adding its
-// passes to the same film, and hands in the tasks it holds as one film when it has rendered
-// `handInSeconds` since its last hand-in, when the job has no task left for it, or when a time
-// limit cut a task short. Its first hand-in of a job is one task (the first preview comes soon),
-// each next one waits twice as long. Fewer, larger results: the bytes a job moves through the
-// store grow with its workers, not with its tasks. The leases of every task held are renewed
-// together; a render stopped (a cancel, the lease lost, shutdown) gives back the tasks held,
-// which are rendered again.
-// Run by `caustic worker` (no HTTP) and by `caustic serve --store postgresql://... --workers N`.
-// Each thread is a worker of its own in the store's list (host, cores, current task), renewed
-// every second while idle and with every heartbeat while rendering.
+// passes to the same film, and hands in the tasks it holds as one film once it has rendered W
+// seconds since its last hand-in (W workers hold the job's tasks, at most `handInSeconds`), when
+// the job has no task left for it, or when a time limit cut a task short. So a job receives about
+// one result a second however many workers render it: its preview's pace, and bytes through the
+// store that do not grow with its workers. The leases of every task held are renewed together; a
+// render stopped (a cancel, the lease lost, shutdown) gives back the tasks held, which are
+// rendered again.
 #pragma once
 
 #include <atomic>

@@ -5,6 +5,7 @@
 // merged twice, nothing lost: the results stay until a batch's commit marks them merged).
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <memory>
 
 #include "film/image_io.h"
@@ -72,9 +73,12 @@ void markMerged(pqxx::work& tx, const std::string& id, int firstPass) {
         id, firstPass);
 }
 
+// Reads the result in task `firstPass`'s row (nothing when it is gone).
+using ReadResult = std::function<std::optional<std::string>(int firstPass)>;
+
 // Merges the waiting films of a job without a target error, in any order (exact sums).
 Batch mergeWaiting(pqxx::work& tx, const std::string& id, std::unique_ptr<Film>& film,
-                   const ConsolidationLimits& limits) {
+                   const ConsolidationLimits& limits, const ReadResult& read) {
     Batch batch;
     const auto start = Clock::now();
     // One result in memory at a time: the list first, then each result.
@@ -87,11 +91,9 @@ Batch mergeWaiting(pqxx::work& tx, const std::string& id, std::unique_ptr<Film>&
             break;
         }
         const int first = row[0].as<int>();
-        const std::string bytes =
-            pqxx::binarystring(tx.exec_params1("SELECT result FROM tasks WHERE job_id = $1 "
-                                               "AND first_pass = $2",
-                                               id, first)[0])
-                .str();
+        const std::optional<std::string> stored = read(first);
+        if (!stored) continue;
+        const std::string& bytes = *stored;
         std::optional<std::pair<int, int>> size = Film::sizeOf(bytes);
         std::unique_ptr<Film> part =
             size ? Film::fromBytes(bytes, size->first, size->second) : nullptr;
@@ -224,8 +226,15 @@ Consolidation PostgresJobStore::consolidate(const std::string& id,
         if (std::optional<std::string> bytes = readFile(tx, id, kMergedFilm))
             if (std::optional<std::pair<int, int>> size = Film::sizeOf(*bytes))
                 film = Film::fromBytes(*bytes, size->first, size->second);
+        // Results are read apart, in binary: a waiting result never changes (only a batch, under
+        // the lock this one holds, marks it merged).
+        const ReadResult read = [&](int first) {
+            return pool_->readBytes(
+                "SELECT result FROM tasks WHERE job_id = $1 AND first_pass = $2::integer",
+                {id, std::to_string(first)});
+        };
         const Batch batch = inOrder ? mergeInOrder(tx, id, film, settings.targetError, limits)
-                                    : mergeWaiting(tx, id, film, limits);
+                                    : mergeWaiting(tx, id, film, limits, read);
         const double now = dbNow(tx);
         tx.exec_params("UPDATE jobs SET consolidated_at = $2 WHERE id = $1", id, now);
         if (!batch.undecodable.empty()) {

@@ -1,3 +1,5 @@
+#include <libpq-fe.h>
+
 #include <cctype>
 
 #include "store/postgres_transaction.h"
@@ -44,8 +46,66 @@ std::string withClientDefaults(std::string conninfo, std::string name) {
 
 }  // namespace
 
+struct Pool::RawConnections {
+    std::mutex mutex;
+    std::vector<PGconn*> idle;
+
+    ~RawConnections() {
+        for (PGconn* c : idle) PQfinish(c);
+    }
+};
+
 Pool::Pool(std::string conninfo, const std::string& name)
-    : conninfo_(withClientDefaults(std::move(conninfo), name)) {}
+    : conninfo_(withClientDefaults(std::move(conninfo), name)),
+      raw_(std::make_unique<RawConnections>()) {}
+
+Pool::~Pool() = default;
+
+std::optional<std::string> Pool::readBytes(const char* sql,
+                                           const std::vector<std::string>& params) {
+    PGconn* c = nullptr;
+    {
+        std::lock_guard lock(raw_->mutex);
+        if (!raw_->idle.empty()) {
+            c = raw_->idle.back();
+            raw_->idle.pop_back();
+        }
+    }
+    if (!c || PQstatus(c) != CONNECTION_OK) {
+        if (c) PQfinish(c);
+        c = PQconnectdb(conninfo_.c_str());
+        if (PQstatus(c) != CONNECTION_OK) {
+            const std::string why = PQerrorMessage(c);
+            PQfinish(c);
+            throw pqxx::broken_connection(why);
+        }
+        PQclear(PQexec(c, kSessionSettings));
+    }
+    std::vector<const char*> values;
+    for (const std::string& p : params) values.push_back(p.c_str());
+    PGresult* r = PQexecParams(c, sql, int(values.size()), nullptr, values.data(), nullptr, nullptr,
+                               /*resultFormat=*/1);
+    const ExecStatusType status = PQresultStatus(r);
+    std::optional<std::string> bytes;
+    std::string error;
+    if (status == PGRES_TUPLES_OK) {
+        if (PQntuples(r) > 0 && !PQgetisnull(r, 0, 0))
+            bytes.emplace(PQgetvalue(r, 0, 0), size_t(PQgetlength(r, 0, 0)));
+    } else {
+        error = PQresultErrorMessage(r);
+    }
+    PQclear(r);
+    const bool broken = PQstatus(c) != CONNECTION_OK;
+    if (broken) {
+        PQfinish(c);
+    } else {
+        std::lock_guard lock(raw_->mutex);
+        raw_->idle.push_back(c);
+    }
+    if (broken) throw pqxx::broken_connection(error);
+    if (!error.empty()) throw std::runtime_error("reading from the job store: " + error);
+    return bytes;
+}
 
 std::unique_ptr<pqxx::connection> Pool::connect() const {
     auto link = std::make_unique<pqxx::connection>(conninfo_);

@@ -149,6 +149,11 @@ std::optional<ClaimedTask> PostgresJobStore::claimTask(const std::string& worker
         if (!job) return std::nullopt;
         claimed.job = std::move(*job);
         claimed.elapsedSeconds = std::max(0.0, now - claimed.job.startedAt);
+        claimed.workersOnJob = std::max(
+            1, tx.exec_params1("SELECT COUNT(DISTINCT lease_owner) FROM tasks WHERE job_id = $1 "
+                               "AND state = 'running'",
+                               task.jobId)[0]
+                   .as<int>());
         return claimed;
     });
 }

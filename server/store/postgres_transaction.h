@@ -34,6 +34,7 @@ class Pool {
 public:
     /// `name`: the connections' application_name, as pg_stat_activity shows them.
     Pool(std::string conninfo, const std::string& name);
+    ~Pool();
 
     /// A connection of the pool's, for one caller at a time.
     class Lease {
@@ -54,6 +55,12 @@ public:
     };
 
     Lease acquire();
+    /// The bytea of the first column of the first row `sql` returns with text parameters
+    /// `params`, read in binary (pqxx reads bytea as hex text: twice the bytes, and decoding).
+    /// Outside any transaction of the caller's: for rows that do not change while they are read.
+    /// Nothing when there is no row or the value is NULL; throws pqxx::broken_connection when
+    /// the server cannot be reached, std::runtime_error for any other failure.
+    std::optional<std::string> readBytes(const char* sql, const std::vector<std::string>& params);
     /// The connection string with the client-side timeouts added.
     const std::string& conninfo() const { return conninfo_; }
     /// A new connection with the session's timeouts set.
@@ -65,6 +72,8 @@ private:
     std::string conninfo_;
     std::mutex mutex_;
     std::vector<std::unique_ptr<pqxx::connection>> idle_;
+    struct RawConnections;  // libpq connections for readBytes
+    std::unique_ptr<RawConnections> raw_;
 };
 
 /// The database's clock in Unix seconds, for SQL: every lease, time limit and liveness is

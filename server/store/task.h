@@ -45,6 +45,7 @@ struct ClaimedTask {
     Task task;
     Job job;
     double elapsedSeconds = 0;  ///< Since the job started, by the database's clock.
+    int workersOnJob = 1;       ///< Workers holding the job's tasks, this one included.
 };
 
 /// The rules of claims and failures (store/task.h, "Faults").
