@@ -29,8 +29,9 @@ packages=(
 if ! $build_only; then
     packages+=(
         git openimageio-tools
-        # The PostgreSQL server for the tests' throwaway clusters (tests/support/postgres.sh)
-        postgresql
+        # The PostgreSQL server for the tests' throwaway clusters (tests/support/postgres.sh), and
+        # libfaketime for workers whose clocks are off (tests/server/test_scale_out_clocks_and_cuts.py)
+        postgresql faketime
         # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a
         # venv; wrk and curl: bench/status_latency.sh; openssl: the TLS tests' certificates; curl
         # and jq: the README's HTTP example, which tests/docs/quickstart_test.py runs)

@@ -63,6 +63,9 @@ Json resolveScene(const Json& scene, const ServerConfig& config, std::string& na
 }
 
 // An optional integer field of the body in [lo, hi]; `fallback` when absent.
+// The pass images a target error's task holds and hands in (store/pass_images.h).
+constexpr int64_t kMaxPassImageBytes = int64_t(256) << 20;
+
 int64_t integerField(const Json& body, const char* name, int64_t lo, int64_t hi, int64_t fallback) {
     if (!body.contains(name)) return fallback;
     const Json& v = body[name];
@@ -159,6 +162,20 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
     if (!config.store.empty()) {
         job.passesTotal = settings.passesTotal();
         job.taskPasses = int(taskPasses > 0 ? taskPasses : config.taskPasses);
+        if (settings.targetError > 0) {
+            // A target error's task hands in each pass's image (12 bytes a pixel), held in its
+            // worker's memory until then: at most kMaxPassImageBytes a task.
+            const int64_t pixels = int64_t(scene->camera.width()) * scene->camera.height();
+            const auto most = int(std::max<int64_t>(1, kMaxPassImageBytes / (12 * pixels)));
+            if (taskPasses > most)
+                throw InputError("/task_passes",
+                                 "a job with a target error hands in each pass's image: at " +
+                                     std::to_string(scene->camera.width()) + "x" +
+                                     std::to_string(scene->camera.height()) + ", at most " +
+                                     std::to_string(most) + " passes a task (256 MiB), got " +
+                                     std::to_string(taskPasses));
+            job.taskPasses = std::min(job.taskPasses, most);
+        }
     }
     return job;
 }

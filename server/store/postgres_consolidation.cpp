@@ -187,10 +187,19 @@ double etaSeconds(const Job& job, const RenderSettings& settings, const Film& fi
     return f ? f->secondsLeft : -1.0;
 }
 
+// A finished job's images, encoded before its row is locked.
+struct Images {
+    std::string exr, png;
+};
+
+Images encodeImages(const Film& film, const RenderSettings& settings) {
+    return {encode(film, "exr", 0.0), encode(film, "png", settings.exposure)};
+}
+
 // Ends a job whose batches merged everything there is: its images, or a failure when no pass
 // finished in time.
 void endJob(pqxx::work& tx, const Job& job, const RenderSettings& settings, const Film* film,
-            StopReason reason, double now) {
+            const Images& images, StopReason reason, double now) {
     tx.exec_params("DELETE FROM job_files WHERE job_id = $1 AND name = $2", job.id, kMergedFilm);
     // Results past a target or a gap are no longer wanted.
     tx.exec_params("UPDATE tasks SET result = NULL WHERE job_id = $1 AND result IS NOT NULL",
@@ -201,8 +210,8 @@ void endJob(pqxx::work& tx, const Job& job, const RenderSettings& settings, cons
                        Json(settings.timeLimit).dump() + " s");
         return;
     }
-    writeFile(tx, job.id, "image.exr", encode(*film, "exr", 0.0));
-    writeFile(tx, job.id, "image.png", encode(*film, "png", settings.exposure));
+    writeFile(tx, job.id, "image.exr", images.exr);
+    writeFile(tx, job.id, "image.png", images.png);
     tx.exec_params(
         "UPDATE jobs SET state = 'succeeded', finished_at = $2, stats = $3, progress = 1, "
         "eta_seconds = 0 WHERE id = $1",
@@ -236,7 +245,10 @@ Consolidation PostgresJobStore::consolidate(const std::string& id,
         const Batch batch = inOrder ? mergeInOrder(tx, id, film, settings.targetError, limits)
                                     : mergeWaiting(tx, id, film, limits, read);
         const double now = dbNow(tx);
-        tx.exec_params("UPDATE jobs SET consolidated_at = $2 WHERE id = $1", id, now);
+        // The job's row is written last (its lock held for the writes only, after the encoding).
+        const auto paced = [&] {
+            tx.exec_params("UPDATE jobs SET consolidated_at = $2 WHERE id = $1", id, now);
+        };
         if (!batch.undecodable.empty()) {
             failJobRow(tx, id, now, batch.undecodable);
             notifyJobs(tx);
@@ -260,9 +272,14 @@ Consolidation PostgresJobStore::consolidate(const std::string& id,
                   "merged)))",
                   id, inOrder)[0]
                 .as<bool>();
-        if (batch.merged == 0 && left) return Consolidation::Nothing;
+        if (batch.merged == 0 && left) {
+            paced();
+            return Consolidation::Nothing;
+        }
         notifyJobs(tx);
-        if (film && batch.merged > 0) {
+        // The batch's point on the convergence log, and the progress.
+        const auto recordProgress = [&] {
+            if (!film || batch.merged == 0) return;
             const double error = film->relativeError();
             const Json point{{"pass", film->passes()},
                              {"seconds", now - job->startedAt},
@@ -272,19 +289,26 @@ Consolidation PostgresJobStore::consolidate(const std::string& id,
             tx.exec_params(
                 "UPDATE jobs SET progress = $2, passes_done = $3, relative_error = $4, "
                 "stalled_leases = 0, convergence = convergence || jsonb_build_array($5::jsonb), "
-                "eta_seconds = $6 WHERE id = $1",
+                "eta_seconds = $6, consolidated_at = $7 WHERE id = $1",
                 id, progress, film->passes(), std::isfinite(error) ? error : NAN, point.dump(),
-                etaSeconds(*job, settings, *film, point));
-        }
+                etaSeconds(*job, settings, *film, point), now);
+        };
         if (!left) {
             const StopReason reason = batch.reachedTarget ? StopReason::TargetError
                                       : timeUp            ? StopReason::TimeLimit
                                                           : StopReason::Spp;
-            endJob(tx, *job, settings, film.get(), reason, now);
-            return Consolidation::Finished;
+            const Images images =
+                film && film->passes() > 0 ? encodeImages(*film, settings) : Images{};
+            recordProgress();
+            endJob(tx, *job, settings, film.get(), images, reason, now);
+        } else {
+            const std::string preview = encode(*film, "png", settings.exposure);
+            const std::string bytes = film->toBytes();
+            writeFile(tx, id, "preview.png", preview);
+            writeFile(tx, id, kMergedFilm, bytes);
+            recordProgress();
         }
-        writeFile(tx, id, "preview.png", encode(*film, "png", settings.exposure));
-        writeFile(tx, id, kMergedFilm, film->toBytes());
+        if (!left) return Consolidation::Finished;
         return batch.more ? Consolidation::More : Consolidation::Merged;
     });
 }

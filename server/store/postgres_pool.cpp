@@ -17,10 +17,13 @@ constexpr const char* kClientDefaults[][2] = {
 
 // Server side (the session's settings): no statement runs longer than a minute, no lock is waited
 // for longer than 10 s, and a transaction its client left open (the client's machine or network
-// gone between statements) is ended after 30 s, releasing its locks.
-constexpr const char* kSessionSettings =
-    "SET statement_timeout = '60s'; SET lock_timeout = '10s'; SET "
-    "idle_in_transaction_session_timeout = '30s'";
+// gone between statements) is ended after 30 s, releasing its locks. A connection string that
+// sets one (options=-c name=value) keeps its own.
+constexpr const char* kSessionSettings[][2] = {
+    {"statement_timeout", "60s"},
+    {"lock_timeout", "10s"},
+    {"idle_in_transaction_session_timeout", "30s"},
+};
 
 bool isUri(const std::string& conninfo) {
     return conninfo.rfind("postgresql://", 0) == 0 || conninfo.rfind("postgres://", 0) == 0;
@@ -56,8 +59,11 @@ struct Pool::RawConnections {
 };
 
 Pool::Pool(std::string conninfo, const std::string& name)
-    : conninfo_(withClientDefaults(std::move(conninfo), name)),
-      raw_(std::make_unique<RawConnections>()) {}
+    : conninfo_(withClientDefaults(conninfo, name)), raw_(std::make_unique<RawConnections>()) {
+    for (const auto& [key, value] : kSessionSettings)
+        if (conninfo.find(key) == std::string::npos)
+            sessionSettings_ += std::string("SET ") + key + " = '" + value + "'; ";
+}
 
 Pool::~Pool() = default;
 
@@ -79,7 +85,7 @@ std::optional<std::string> Pool::readBytes(const char* sql,
             PQfinish(c);
             throw pqxx::broken_connection(why);
         }
-        PQclear(PQexec(c, kSessionSettings));
+        if (!sessionSettings_.empty()) PQclear(PQexec(c, sessionSettings_.c_str()));
     }
     std::vector<const char*> values;
     for (const std::string& p : params) values.push_back(p.c_str());
@@ -109,7 +115,7 @@ std::optional<std::string> Pool::readBytes(const char* sql,
 
 std::unique_ptr<pqxx::connection> Pool::connect() const {
     auto link = std::make_unique<pqxx::connection>(conninfo_);
-    pqxx::nontransaction(*link).exec(kSessionSettings);
+    if (!sessionSettings_.empty()) pqxx::nontransaction(*link).exec(sessionSettings_);
     return link;
 }
 

@@ -70,6 +70,7 @@ private:
     void giveBack(std::unique_ptr<pqxx::connection> link);
 
     std::string conninfo_;
+    std::string sessionSettings_;  ///< SET statements run on each new connection.
     std::mutex mutex_;
     std::vector<std::unique_ptr<pqxx::connection>> idle_;
     struct RawConnections;  // libpq connections for readBytes

@@ -407,8 +407,9 @@ def postgres():
 def farm(postgres, start_server, caustic_bin, tmp_path):
     """A factory of a scale-out on a fresh database: farm(workers=3, api_args=(), worker_args=())
     returns (api, [workers]): one `caustic serve --store ... --workers 0` and `workers` processes
-    of `caustic worker --threads 1`; api.start_worker(*args) starts one more on the same store.
-    Every process is stopped at the end of the test."""
+    of `caustic worker --threads 1`; api.start_worker(*args, store=None, prefix=()) starts one more
+    on the same store (or `store`: the same database by another way), through `prefix`. Every
+    process is stopped at the end of the test."""
     from farm import Worker
     started = []
 
@@ -416,8 +417,9 @@ def farm(postgres, start_server, caustic_bin, tmp_path):
         store = postgres.create_database()
         api = start_server("--store", store, "--workers", "0", *api_args)
 
-        def start_worker(*args):
-            worker = Worker(caustic_bin, store, str(tmp_path), "--threads", "1", *args)
+        def start_worker(*args, store=store, prefix=()):
+            worker = Worker(caustic_bin, store, str(tmp_path), "--threads", "1", *args,
+                            prefix=prefix)
             started.append(worker)
             return worker.start()
 

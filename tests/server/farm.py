@@ -64,8 +64,9 @@ class PostgresCluster:
 class Worker(Process):
     """One `caustic worker` process on a store."""
 
-    def __init__(self, binary, store, workdir, *args):
-        self.args = [binary, "worker", "--store", store, *args]
+    def __init__(self, binary, store, workdir, *args, prefix=()):
+        """`prefix` runs the worker through a command (faketime, to shift its clock)."""
+        self.args = [*prefix, binary, "worker", "--store", store, *args]
         self.workdir = workdir
         self.name = "worker-" + uuid.uuid4().hex[:6]
         self.out_path = os.path.join(workdir, self.name + ".out")
