@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Event delay of a scale-out (bench/README.md, "event_delay"): how long after a worker process
 merges a task's passes into the PostgreSQL store a client following the job's Server-Sent Events
-on the API process hears of it (LISTEN/NOTIFY, server/store/postgres_listener.h), beside the same
+on the API process hears of it (LISTEN/NOTIFY, server/store/postgres/listener.h), beside the same
 delay for one SQLite process (whose workers wake its event streams in memory).
 
 The delay of an event is the time the client read it minus the time the pass was merged: the job's

@@ -26,11 +26,12 @@
 #include "farm/consolidator.h"
 #include "film/film.h"
 #include "jobs/clock.h"
+#include "jobs/lease_keeper.h"
 #include "postgres_cluster.h"
 #include "render/render_session.h"
 #include "render/settings.h"
 #include "scene/scene.h"
-#include "store/postgres_job_store.h"
+#include "store/postgres/job_store.h"
 
 namespace {
 
@@ -42,8 +43,9 @@ double since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-Json cornellBox(int size) {
-    Json scene = readJsonFile(CAUSTIC_DEFAULT_SCENES_DIR "/cornell-box.json");
+/// An example scene (scenes/NAME.json) at size x size.
+Json exampleScene(const std::string& name, int size) {
+    Json scene = readJsonFile(std::string(CAUSTIC_DEFAULT_SCENES_DIR) + "/" + name + ".json");
     scene["camera"]["width"] = scene["camera"]["height"] = size;
     return scene;
 }
@@ -51,19 +53,22 @@ Json cornellBox(int size) {
 /// One task's result as every worker hands it in: the film of passes [0, k) rendered here, and
 /// the render seconds of one pass on one thread.
 struct TaskTemplate {
+    std::string scene;
     int size = 0, passes = 0;
     double passSeconds = 0;
     std::string film;  ///< Film::toBytes() of passes [0, passes).
 };
 
-TaskTemplate renderTemplate(int size, int passes) {
-    const Json doc = cornellBox(size);
-    std::unique_ptr<Scene> scene = loadScene(doc, SceneOptions{});
+TaskTemplate renderTemplate(const std::string& name, int size, int passes) {
+    const Json doc = exampleScene(name, size);
+    SceneOptions options;
+    options.assetsDir = CAUSTIC_DEFAULT_ASSETS_DIR;
+    std::unique_ptr<Scene> scene = loadScene(doc, options);
     RenderSettings settings;
     settings.spp = passes;
     settings.sppPerPass = 1;
     settings.threads = 1;
-    TaskTemplate t{size, passes, 0, {}};
+    TaskTemplate t{name, size, passes, 0, {}};
     std::unique_ptr<Film> film;
     {
         // The render time: the faster of two one-thread passes (the first warms the caches).
@@ -104,7 +109,7 @@ std::string relabel(const std::string& film, std::vector<Task> tasks) {
 }
 
 struct WorkerTimes {
-    double claims = 0, heartbeats = 0, handIns = 0, rendering = 0;
+    double claims = 0, handIns = 0, rendering = 0;
     Clock::time_point lastHandIn{};  ///< When its last hand-in returned.
     std::vector<double> handIn;      ///< Each hand-in's seconds.
     int tasks = 0;
@@ -120,10 +125,13 @@ struct Run {
 };
 
 constexpr FarmPolicy kPolicy{.leaseSeconds = 10};
+// As farm/task_workers.cpp: a job's results cost the store about one a second or 10 MB a second.
+constexpr double kJobBytesPerSecond = 10e6;
 
 // A worker as farm/task_workers.cpp runs one: it goes on with its job's next task and hands in
-// the tasks it holds as one film once it rendered a second per worker on the job since its last
-// hand-in (at most `handInSeconds`), or when the job has no task left for it.
+// the tasks it holds as one film once it rendered W seconds since its last hand-in (W: the
+// workers on the job times the larger of a second and a result's bytes over 10 MB/s, at most
+// `handInSeconds`), or when the job has no task left for it.
 void work(const std::string& url, const std::string& worker, const std::string& id,
           const TaskTemplate& t, double handInSeconds, Consolidator& consolidator,
           std::atomic<bool>& done, WorkerTimes& times) {
@@ -131,6 +139,11 @@ void work(const std::string& url, const std::string& worker, const std::string& 
     const double renderSeconds = t.passSeconds * t.passes;
     std::vector<TaskDone> held;
     double heldSeconds = 0, handInAfter = 0;
+    // The held tasks' leases, renewed by a lease keeper's thread as a worker's are (also while it
+    // hands them in); its heartbeats are not counted in the worker's queue time.
+    auto leased = std::make_shared<std::pair<std::mutex, std::vector<Task>>>();
+    std::unique_ptr<LeaseKeeper> lease;
+    const std::atomic<bool> never{false};
     const auto handIn = [&] {
         std::vector<Task> tasks;
         for (const TaskDone& d : held) tasks.push_back(d.task);
@@ -144,6 +157,9 @@ void work(const std::string& url, const std::string& worker, const std::string& 
         times.tasks += int(held.size());
         held.clear();
         heldSeconds = 0;
+        lease.reset();
+        std::lock_guard lock(leased->first);
+        leased->second.clear();
     };
     while (!done) try {
             auto start = Clock::now();
@@ -156,23 +172,26 @@ void work(const std::string& url, const std::string& worker, const std::string& 
                 continue;
             }
             const Task& task = claimed->task;
-            handInAfter = std::min(handInSeconds, claimed->workersOnJob * 1.0);
-            // The render: a sleep, the held tasks' heartbeat a second as the lease keeper sends
-            // them (counted as the queue's time, though a real worker's lease thread does not stop
-            // its render).
-            std::vector<Task> leased;
-            for (const TaskDone& d : held) leased.push_back(d.task);
-            leased.push_back(task);
-            auto rendering = Clock::now();
-            while (true) {
-                const double left = renderSeconds - since(rendering);
-                if (left <= 0) break;
-                std::this_thread::sleep_for(std::chrono::duration<double>(std::min(1.0, left)));
-                if (since(rendering) >= renderSeconds) break;
-                start = Clock::now();
-                store.heartbeatTasks(leased, kPolicy.leaseSeconds);
-                times.heartbeats += since(start);
+            handInAfter = std::min(
+                handInSeconds,
+                claimed->workersOnJob * std::max(1.0, double(t.film.size()) / kJobBytesPerSecond));
+            {
+                std::lock_guard lock(leased->first);
+                leased->second.push_back(task);
             }
+            if (!lease)
+                lease = std::make_unique<LeaseKeeper>(
+                    [&store, leased](double) {
+                        std::vector<Task> tasks;
+                        {
+                            std::lock_guard lock(leased->first);
+                            tasks = leased->second;
+                        }
+                        return store.heartbeatTasks(tasks, kPolicy.leaseSeconds);
+                    },
+                    kPolicy.leaseSeconds, never);
+            // The render: a sleep.
+            std::this_thread::sleep_for(std::chrono::duration<double>(renderSeconds));
             times.rendering += renderSeconds;
             const int passes = task.lastPass - task.firstPass;
             held.push_back({task, passes, uint64_t(t.size) * uint64_t(t.size) * uint64_t(passes),
@@ -182,6 +201,9 @@ void work(const std::string& url, const std::string& worker, const std::string& 
         } catch (const std::exception& e) {
             // As a worker does: the tasks' leases expire and they are rendered again.
             held.clear();
+            lease.reset();
+            std::lock_guard lock(leased->first);
+            leased->second.clear();
             if (times.errors++ == 0) std::cerr << "farm_sim: a worker: " << e.what() << "\n";
         }
     if (!held.empty()) handIn();
@@ -192,8 +214,8 @@ Run runFarm(const std::string& url, PostgresJobStore& store, const TaskTemplate&
     static int count = 0;
     Job job;
     job.id = "sim-" + std::to_string(getpid()) + "-" + std::to_string(++count);
-    job.scene = cornellBox(t.size);
-    job.sceneName = "cornell-box";
+    job.scene = exampleScene(t.scene, t.size);
+    job.sceneName = t.scene;
     RenderSettings settings;
     settings.spp = tasks * t.passes;
     settings.sppPerPass = 1;
@@ -236,7 +258,6 @@ Run runFarm(const std::string& url, PostgresJobStore& store, const TaskTemplate&
     for (const WorkerTimes& w : times) {
         lastHandIn = std::max(lastHandIn, w.lastHandIn);
         run.sum.claims += w.claims;
-        run.sum.heartbeats += w.heartbeats;
         run.sum.handIns += w.handIns;
         run.sum.rendering += w.rendering;
         run.sum.tasks += w.tasks;
@@ -262,7 +283,9 @@ int main(int argc, char** argv) {
     std::string url;
     std::vector<int> sizes{512, 1024}, workerCounts{1, 4, 16, 64};
     int taskPasses = 8, tasksPerWorker = 16;
-    double handInSeconds = 30;
+    double handInSeconds = 120;
+    std::string sceneName = "cornell-box";
+    std::vector<std::string> resultScenes;
     bool smoke = false;
     app.add_option("--store", url,
                    "A postgresql:// database nobody else uses (default: a throwaway cluster from "
@@ -273,7 +296,11 @@ int main(int argc, char** argv) {
     app.add_option("--tasks-per-worker", tasksPerWorker,
                    "Tasks a worker renders: the job's length (default 16)");
     app.add_option("--hand-in-seconds", handInSeconds,
-                   "As serve's and worker's --hand-in-seconds (default 30; 0: every task)");
+                   "As serve's and worker's --hand-in-seconds (default 120; 0: every task)");
+    app.add_option("--scene", sceneName, "The job's example scene (default cornell-box)");
+    app.add_option("--result-bytes", resultScenes,
+                   "Instead of a farm: the bytes a pixel of one task's result on these example "
+                   "scenes, at each size, in the stored format and the in-memory one");
     app.add_flag("--smoke", smoke, "64², 1 and 4 workers, 2 passes a task: checks that it runs");
     if (int exitCode = cli::parseCommandLine(app, argc, argv); exitCode >= 0) return exitCode;
     if (smoke) {
@@ -283,6 +310,22 @@ int main(int argc, char** argv) {
         tasksPerWorker = 4;
     }
     bench::printMachine(argc, argv);
+    if (!resultScenes.empty()) {
+        std::cout << "| scene | image | passes | stored bytes/px | in memory bytes/px | ratio |\n"
+                     "|---|---|---:|---:|---:|---:|\n";
+        for (const std::string& name : resultScenes)
+            for (int size : sizes) {
+                const TaskTemplate t = renderTemplate(name, size, taskPasses);
+                const double pixels = double(size) * size;
+                const double memory = double(Film::bytesFor(size, size)) / pixels;
+                const double stored = double(t.film.size()) / pixels;
+                std::cout << "| " << name << " | " << size << "² | " << taskPasses << " | "
+                          << bench::fmt("%.1f", stored) << " | " << bench::fmt("%.1f", memory)
+                          << " | " << bench::fmt("%.2f", memory / stored) << " |\n"
+                          << std::flush;
+            }
+        return 0;
+    }
     std::unique_ptr<bench::PostgresCluster> cluster;
     try {
         if (url.empty()) {
@@ -296,10 +339,10 @@ int main(int argc, char** argv) {
         std::cout
             << "| image | workers | tasks | job | task render s | wall s | speedup | speedup / N "
                "| queue share | hand-in median ms | hand-in p99 ms | result bytes/px | "
-               "store errors |\n"
+               "last hand-in to end s | store errors |\n"
                "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         for (int size : sizes) {
-            const TaskTemplate t = renderTemplate(size, taskPasses);
+            const TaskTemplate t = renderTemplate(sceneName, size, taskPasses);
             PostgresJobStore store(url);
             double oneRate = 0;
             for (int n : workerCounts) {
@@ -307,7 +350,7 @@ int main(int argc, char** argv) {
                 const double rate = run.tasks / run.wall;
                 if (n == 1) oneRate = rate;
                 const double speedup = oneRate > 0 ? rate / oneRate : NAN;
-                const double queue = run.sum.claims + run.sum.heartbeats + run.sum.handIns;
+                const double queue = run.sum.claims + run.sum.handIns;
                 std::cout << "| " << size << "² | " << n << " | " << run.tasks << " | " << run.state
                           << " | " << bench::fmt("%.2f", t.passSeconds * t.passes) << " | "
                           << bench::fmt("%.2f", run.wall) << " | " << bench::fmt("%.2f", speedup)

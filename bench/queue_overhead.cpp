@@ -31,7 +31,7 @@
 #include "postgres_cluster.h"
 #include "render/settings.h"
 #include "scene/scene.h"
-#include "store/postgres_job_store.h"
+#include "store/postgres/job_store.h"
 
 namespace {
 

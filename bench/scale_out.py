@@ -145,6 +145,28 @@ class Cluster:
         subprocess.run(["bash", POSTGRES_SH, "stop", self.folder], capture_output=True,
                        timeout=120)
 
+    def cpu_seconds(self):
+        """CPU seconds the server's processes have used: the postmaster's own and those of its
+        children it has reaped (cutime, cstime), and its live children's."""
+        with open(os.path.join(self.folder, "data", "postmaster.pid")) as f:
+            postmaster = int(f.readline())
+        tick = os.sysconf("SC_CLK_TCK")
+        total = 0
+        for pid in os.listdir("/proc"):
+            if not pid.isdigit():
+                continue
+            try:
+                with open(f"/proc/{pid}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            ppid, utime, stime, cutime, cstime = (int(fields[i]) for i in (1, 11, 12, 13, 14))
+            if int(pid) == postmaster:
+                total += utime + stime + cutime + cstime
+            elif ppid == postmaster:
+                total += utime + stime
+        return total / tick
+
 
 def run_farm(binary, cluster, folder, workers, body):
     """One render of `body` by `workers` worker processes on a fresh database."""
@@ -157,7 +179,10 @@ def run_farm(binary, cluster, folder, workers, body):
             procs.append(Process([binary, "worker", "--store", store, "--threads", "1"], folder,
                                  f"worker-{workers}-{i}-{uuid.uuid4().hex[:4]}",
                                  r"caustic: worker rendering"))
-        return render(base, body)
+        cpu = cluster.cpu_seconds()
+        wall, job = render(base, body)
+        job["database_cpu_seconds"] = cluster.cpu_seconds() - cpu
+        return wall, job
     finally:
         for p in reversed(procs):
             p.stop()
@@ -228,8 +253,8 @@ def print_report(args, command, load_before, load_after, results):
           f"cannot render faster than {cores}, they only share the cores.")
     print()
     print("| renderer | wall s | speedup over 1 worker | speedup over one process | "
-          "render s (sum) | render s per pass | N x wall - render s |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
+          "render s (sum) | render s per pass | N x wall - render s | database CPU s |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
     single = median([w for w, _ in results["single"]])
     one = median([w for w, _ in results[args.workers[0]]]) if args.workers else single
     for key in ["single"] + args.workers:
@@ -239,8 +264,10 @@ def print_report(args, command, load_before, load_after, results):
         name = ("one SQLite process, --threads 1" if key == "single"
                 else f"{key} worker process(es), --threads 1")
         speedup = "" if key == "single" else f"{one / wall:.2f}"
+        db = ("" if key == "single" else
+              f"{median([j['database_cpu_seconds'] for _, j in results[key]]):.2f}")
         print(f"| {name} | {wall:.2f} | {speedup} | {single / wall:.2f} | {render_s:.2f} | "
-              f"{render_s / passes:.3f} | {n * wall - render_s:.2f} |")
+              f"{render_s / passes:.3f} | {n * wall - render_s:.2f} | {db} |")
 
 
 if __name__ == "__main__":

@@ -52,9 +52,9 @@ void addStoreOptions(CLI::App& app, server::ServerConfig& c, bool required) {
               "in tasks this size, merged exactly");
     addNumber(farm, "--hand-in-seconds", c.handInSeconds, 0, 3600,
               "The most render seconds a worker goes on with one job's tasks before it hands "
-              "them in as one film (it waits a second for each worker on the job, so that the "
-              "job gets about one result a second): what a lost worker costs at most; 0 hands "
-              "in every task");
+              "them in as one film (it waits so that the job's results cost the store about one "
+              "a second or 10 MB a second, however many workers render it): what a lost worker "
+              "costs at most; 0 hands in every task");
     addNumber(farm, "--block-after-failures", c.blockAfterFailures, 1, 1000,
               "Failed tasks of a job after which a worker stops taking that job's tasks");
     addNumber(farm, "--fail-after-workers", c.failAfterWorkers, 1, 1000,

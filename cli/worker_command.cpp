@@ -12,7 +12,7 @@
 #include "service_options.h"
 #if CAUSTIC_HAS_POSTGRES
 #include "farm/task_workers.h"
-#include "store/postgres_job_store.h"
+#include "store/postgres/job_store.h"
 #endif
 
 namespace caustic {

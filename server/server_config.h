@@ -66,8 +66,8 @@ struct ServerConfig {
     double storeWaitSeconds = 30;  ///< How long a start waits for the PostgreSQL store.
     int taskPasses = 8;            ///< Passes per task of a job that sets no task_passes.
     /// The most render seconds a worker goes on with tasks of one job before it hands them in
-    /// as one film (farm/task_workers.h: one second per worker on the job, up to this).
-    double handInSeconds = 30;
+    /// as one film (farm/task_workers.h).
+    double handInSeconds = 120;
     int blockAfterFailures = 2;  ///< A worker's failed tasks of a job before it skips the job.
     int failAfterWorkers = 3;    ///< Workers that failed a job's tasks before the job fails.
     bool failEveryTask = false;  ///< Test only: this process's workers fail every task.

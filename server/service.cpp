@@ -15,13 +15,7 @@
 #include <stdexcept>
 
 #include "http/routes.h"
-#include "store/sqlite_job_store.h"
-#if CAUSTIC_HAS_POSTGRES
-#include "farm/task_workers.h"
-#include "store/postgres_job_files.h"
-#include "store/postgres_job_store.h"
-#include "store/postgres_listener.h"
-#endif
+#include "store/sqlite/job_store.h"
 namespace caustic::server {
 namespace fs = std::filesystem;
 
@@ -65,31 +59,14 @@ std::unique_ptr<httplib::Server> makeHttpServer(const ServerConfig& config) {
 
 }  // namespace
 
-/// A store shared with worker processes (store/task.h): the task workers of this process and the
-/// listener that follows changes made anywhere.
-struct Farm {
-#if CAUSTIC_HAS_POSTGRES
-    PostgresJobStore* store = nullptr;
-    std::unique_ptr<PostgresListener> listener;
-    std::unique_ptr<TaskWorkers> workers;
-#endif
-};
-
-bool isPostgresStore(const std::string& store) {
-    return store.starts_with("postgresql://") || store.starts_with("postgres://");
-}
-
 RenderService::RenderService(ServerConfig config) : config_(std::move(config)) {
     owner_ = "pid" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}());
     if (isPostgresStore(config_.store))
         openSharedStore();
     else
         openEmbeddedStore();
-#if CAUSTIC_HAS_POSTGRES
-    if (farm_) farm_->workers = std::make_unique<TaskWorkers>(config_, *farm_->store, counters_);
-#endif
-    if (!farm_)
-        workers_ =
+    if (!renderers_)
+        renderers_ =
             std::make_unique<WorkerPool>(config_, *store_, *files_, events_, counters_, owner_);
     retention_ = std::make_unique<RetentionSweeper>(config_, *store_, *files_, events_, storage_);
     jobs_ = std::make_unique<JobService>(config_, *store_, *files_, events_, [this] { wake(); });
@@ -161,25 +138,19 @@ void RenderService::openEmbeddedStore() {
 }
 
 void RenderService::openSharedStore() {
-#if CAUSTIC_HAS_POSTGRES
-    // Nothing here is shared through the data folder: leases expire by time (other processes'
-    // are live), files live in the store, and a crash is a lease that expires.
-    auto store = std::make_unique<PostgresJobStore>(config_.store, config_.storeWaitSeconds,
-                                                    "caustic-serve-" + std::to_string(::getpid()));
-    files_ = std::make_unique<PostgresJobFiles>(*store);
-    farm_ = std::make_unique<Farm>();
-    farm_->store = store.get();
-    store_ = std::move(store);
-    farm_->listener =
-        std::make_unique<PostgresListener>(config_.store, [this] { events_.notify(); });
-#else
-    throw std::runtime_error("this build has no PostgreSQL store (CAUSTIC_POSTGRES=OFF)");
-#endif
+    SharedStore shared = server::openSharedStore(config_, counters_, [this] { events_.notify(); });
+    store_ = std::move(shared.jobs);
+    files_ = std::move(shared.files);
+    farm_ = shared.farm;
+    renderers_ = std::move(shared.renderers);
+    listener_ = std::move(shared.listener);
 }
 
 RenderService::~RenderService() {
     stop();
-    farm_.reset();  // its threads use the events and counters
+    // Their threads use the events and counters.
+    renderers_.reset();
+    listener_.reset();
     if (faultFd_ >= 0) {
         int mine = faultFd_;
         faultFd.compare_exchange_strong(mine, -1);
@@ -206,12 +177,7 @@ void RenderService::serve() {
     http_->set_keep_alive_timeout(5);
     http_->set_read_timeout(10);
     http_->set_write_timeout(10);
-    FarmStore* farmStore = nullptr;
-#if CAUSTIC_HAS_POSTGRES
-    if (farm_) farmStore = farm_->store;
-#endif
-    ApiContext api{config_,   *jobs_,   counters_, eventStreams_,
-                   stopping_, storage_, *assets_,  farmStore};
+    ApiContext api{config_, *jobs_, counters_, eventStreams_, stopping_, storage_, *assets_, farm_};
     registerRoutes(*http_, api);
     startWorkers(true);
     retention_->start();
@@ -221,17 +187,11 @@ void RenderService::serve() {
 }
 
 void RenderService::startWorkers(bool start) {
-    if (workers_) start ? workers_->start() : workers_->stop();
-#if CAUSTIC_HAS_POSTGRES
-    if (farm_) start ? farm_->workers->start() : farm_->workers->stop();
-#endif
+    start ? renderers_->start() : renderers_->stop();
 }
 
 void RenderService::wake() {
-    if (workers_) workers_->wake();
-#if CAUSTIC_HAS_POSTGRES
-    if (farm_) farm_->workers->wake();
-#endif
+    renderers_->wake();
 }
 
 void RenderService::stop() {

@@ -14,16 +14,13 @@
 #include "server_config.h"
 #include "store/job_files.h"
 #include "store/job_store.h"
+#include "store/shared_store.h"
 
 namespace httplib {
 class Server;
 }
 
 namespace caustic::server {
-
-struct Farm;
-/// Whether `store` (ServerConfig::store) names a PostgreSQL store.
-bool isPostgresStore(const std::string& store);
 
 class RenderService {
 public:
@@ -56,11 +53,12 @@ private:
 
     std::unique_ptr<JobStore> store_;
     std::unique_ptr<JobFiles> files_;
-    std::unique_ptr<Farm> farm_;  ///< With a PostgreSQL store: task workers, the listener.
+    FarmStore* farm_ = nullptr;       ///< A shared store's tasks and workers (store_ is it).
+    std::shared_ptr<void> listener_;  ///< A shared store's listener of changes.
     JobEvents events_;
     RenderCounters counters_;
     std::string owner_;
-    std::unique_ptr<WorkerPool> workers_;
+    std::unique_ptr<Renderers> renderers_;
     StorageCounters storage_;
     std::unique_ptr<RetentionSweeper> retention_;
     std::unique_ptr<JobService> jobs_;

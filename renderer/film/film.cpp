@@ -54,6 +54,7 @@ void Film::merge(const Film& other) {
             " film into a " + std::to_string(width_) + "x" + std::to_string(height_) + " one");
     checkPassCount(passSet_, other.passes());
     passSet_.insert(other.passSet_);  // throws before anything changes
+#pragma omp parallel for schedule(static)
     for (size_t i = 0; i < sum_.size(); ++i) {
         sum_[i] += other.sum_[i];
         sumSq_[i].add(other.sumSq_[i]);

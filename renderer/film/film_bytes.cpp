@@ -12,9 +12,11 @@
 // checkpoints of earlier versions): the accumulators as they are in memory.
 #include <zstd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "film/film.h"
 
@@ -216,17 +218,36 @@ bool Film::readCompact(std::string_view bytes) {
     if (ZSTD_isError(n) || n != plainBytes) return false;
     const auto* heads = reinterpret_cast<const uint8_t*>(plain.data());
     const std::string_view digits = std::string_view(plain).substr(2 * count);
-    size_t next = 0;
-    Limbs v;
-    for (size_t i = 0; i < sum_.size(); ++i, heads += 2) {
-        if (!get(heads[0], heads[1], digits, next, 128, v)) return false;
-        sum_[i] = unzigzag(v);
+    // Integer i's digits start at the sum of the lengths before it: found per block of integers
+    // by one pass over the lengths, then the blocks are read in parallel.
+    constexpr size_t kBlock = 1 << 14;
+    const size_t blocks = (count + kBlock - 1) / kBlock;
+    std::vector<size_t> starts(blocks + 1, 0);
+    for (size_t b = 0; b < blocks; ++b) {
+        size_t length = 0;
+        for (size_t i = b * kBlock; i < std::min(count, (b + 1) * kBlock); ++i)
+            length += heads[2 * i + 1];
+        starts[b + 1] = starts[b] + length;
     }
-    for (size_t i = 0; i < sumSq_.size(); ++i, heads += 2) {
-        if (!get(heads[0], heads[1], digits, next, 192, v)) return false;
-        sumSq_[i] = exact::Wide192{{v.w[0], v.w[1], v.w[2]}};
+    if (starts[blocks] != digits.size()) return false;
+    const size_t sums = sum_.size();
+    bool ok = true;
+#pragma omp parallel for schedule(static) reduction(&& : ok)
+    for (size_t b = 0; b < blocks; ++b) {
+        size_t next = starts[b];
+        Limbs v;
+        for (size_t i = b * kBlock; i < std::min(count, (b + 1) * kBlock) && ok; ++i) {
+            const uint8_t* head = heads + 2 * i;
+            if (!get(head[0], head[1], digits, next, i < sums ? 128 : 192, v)) {
+                ok = false;
+            } else if (i < sums) {
+                sum_[i] = unzigzag(v);
+            } else {
+                sumSq_[i - sums] = exact::Wide192{{v.w[0], v.w[1], v.w[2]}};
+            }
+        }
     }
-    return next == digits.size();
+    return ok;
 }
 
 }  // namespace caustic

@@ -10,7 +10,7 @@
 #include <mutex>
 #include <thread>
 
-#include "store/postgres_job_store.h"
+#include "store/postgres/job_store.h"
 
 namespace caustic::server {
 

@@ -63,6 +63,10 @@ struct TaskWorkers::Chain {
 
 namespace {
 
+// What a job's results may cost the store: about one a second, or 10 MB a second, whichever is
+// less, however many workers render it.
+constexpr double kJobBytesPerSecond = 10e6;
+
 std::string hostName() {
     char name[256] = {};
     if (::gethostname(name, sizeof name - 1) != 0) return "unknown";
@@ -81,6 +85,14 @@ TaskWorkers::TaskWorkers(const ServerConfig& config, PostgresJobStore& store,
 
 TaskWorkers::~TaskWorkers() {
     stop();
+}
+
+double TaskWorkers::handInAfter(int workersOnJob, const Scene& scene) const {
+    // A result is a film of the image's size, stored in about a third of its bytes in memory.
+    const double resultBytes =
+        double(Film::bytesFor(scene.camera.width(), scene.camera.height())) / 3;
+    return std::min(config_.handInSeconds,
+                    workersOnJob * std::max(1.0, resultBytes / kJobBytesPerSecond));
 }
 
 FarmPolicy TaskWorkers::policy() const {
@@ -196,8 +208,6 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
     const Task& task = claimed.task;
     const Job& job = claimed.job;
     chain.jobId = job.id;
-    // About one result a second for the job, whatever the number of its workers.
-    chain.handInAfter = std::min(config_.handInSeconds, claimed.workersOnJob * 1.0);
     {
         std::lock_guard lock(chain.held->mutex);
         chain.held->tasks.push_back(task);
@@ -233,6 +243,7 @@ void TaskWorkers::renderTask(const std::string& worker, const ClaimedTask& claim
             cache.jobId = job.id;
         }
         RenderSession& session = *cache.session;
+        chain.handInAfter = handInAfter(claimed.workersOnJob, *cache.scene);
         const bool passImages = cache.settings.targetError > 0;
         // A target error's passes go one task at a time, as images the consolidation replays in
         // order; other tasks add to the held film.

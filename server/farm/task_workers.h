@@ -4,12 +4,12 @@
 //
 // A worker goes on with the next task of the job it renders while the job has any, adding its
 // passes to the same film, and hands in the tasks it holds as one film once it has rendered W
-// seconds since its last hand-in (W workers hold the job's tasks, at most `handInSeconds`), when
-// the job has no task left for it, or when a time limit cut a task short. So a job receives about
-// one result a second however many workers render it: its preview's pace, and bytes through the
-// store that do not grow with its workers. The leases of every task held are renewed together; a
-// render stopped (a cancel, the lease lost, shutdown) gives back the tasks held, which are
-// rendered again.
+// seconds since its last hand-in, when the job has no task left for it, or when a time limit cut a
+// task short. W is the number of workers holding the job's tasks times the larger of a second and
+// a result's bytes over 10 MB/s, at most `handInSeconds`: so a job's results cost the store about
+// one a second or 10 MB a second however many workers render it (its preview's pace). The leases
+// of every task held are renewed together; a render stopped (a cancel, the lease lost, shutdown)
+// gives back the tasks held, which are rendered again.
 #pragma once
 
 #include <atomic>
@@ -23,21 +23,21 @@
 #include "farm/consolidator.h"
 #include "jobs/worker_pool.h"
 #include "server_config.h"
-#include "store/postgres_job_store.h"
+#include "store/postgres/job_store.h"
 
 namespace caustic::server {
 
-class TaskWorkers {
+class TaskWorkers final : public Renderers {
 public:
     /// `config.workers` threads; `name` prefixes their ids (host and process).
     TaskWorkers(const ServerConfig& config, PostgresJobStore& store, RenderCounters& counters);
-    ~TaskWorkers();
+    ~TaskWorkers() override;
 
-    void start();
+    void start() override;
     /// Stops claiming; renders under way stop and give their tasks back; joins the threads.
-    void stop();
+    void stop() override;
     /// A task may be waiting: wake an idle worker.
-    void wake();
+    void wake() override;
 
 private:
     struct Cached;  // a job's loaded scene and render session, reused by its next task
@@ -51,6 +51,8 @@ private:
     /// Gives back the tasks held, unless their leases are lost (none is left held).
     void giveBack(const std::string& worker, Chain& chain);
     FarmPolicy policy() const;
+    /// Render seconds a worker holds before it hands in, for a job on `workersOnJob` workers.
+    double handInAfter(int workersOnJob, const Scene& scene) const;
 
     const ServerConfig& config_;
     PostgresJobStore& store_;

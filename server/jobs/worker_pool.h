@@ -15,6 +15,7 @@
 #include "jobs/clock.h"
 #include "jobs/job_events.h"
 #include "jobs/lease_keeper.h"
+#include "jobs/renderers.h"
 #include "server_config.h"
 #include "store/job_files.h"
 #include "store/job_store.h"
@@ -30,18 +31,18 @@ struct RenderCounters {
     std::atomic<double> lastRaysPerSecond{0};
 };
 
-class WorkerPool {
+class WorkerPool final : public Renderers {
 public:
     WorkerPool(const ServerConfig& config, JobStore& store, const JobFiles& files,
                JobEvents& events, RenderCounters& counters, std::string owner);
-    ~WorkerPool();
+    ~WorkerPool() override;
 
-    void start();
+    void start() override;
     /// Stops claiming, cancels running renders (their jobs go back to the queue when their
     /// leases expire, or at the next start-up) and joins the threads.
-    void stop();
+    void stop() override;
     /// A job was queued: wake an idle worker.
-    void wake();
+    void wake() override;
 
 private:
     /// How an attempt ended.

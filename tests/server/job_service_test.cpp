@@ -8,7 +8,7 @@
 #include <regex>
 
 #include "jobs/worker_pool.h"
-#include "store/sqlite_job_store.h"
+#include "store/sqlite/job_store.h"
 #include "support/temp_dir.h"
 
 namespace caustic::server {

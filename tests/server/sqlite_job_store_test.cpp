@@ -3,7 +3,7 @@
 
 #include <sqlite3.h>
 
-#include "store/sqlite_job_store.h"
+#include "store/sqlite/job_store.h"
 #include "support/temp_dir.h"
 
 namespace caustic::server {

@@ -18,7 +18,7 @@ from test_scale_out import ENDED, images, rendered, wait_for, worker_row, worker
 pytestmark = [pytest.mark.scaleout, pytest.mark.timeout(300)]
 
 SCENE = tiny_scene(width=48, height=48)
-# pg_try_advisory_xact_lock's first key for consolidations (store/postgres_consolidation.cpp).
+# pg_try_advisory_xact_lock's first key for consolidations (store/postgres/consolidation.cpp).
 CONSOLIDATION_LOCK = 0x636f6e73
 # libfaketime (Debian's faketime package), preloaded by env so that the worker keeps its pid.
 FAKETIME = "/usr/lib/x86_64-linux-gnu/faketime/libfaketimeMT.so.1"

@@ -8,9 +8,9 @@
 #include <random>
 #include <string>
 
-#include "store/sqlite_job_store.h"
+#include "store/sqlite/job_store.h"
 #ifdef CAUSTIC_HAS_POSTGRES
-#include "store/postgres_job_store.h"
+#include "store/postgres/job_store.h"
 #include "support/postgres_cluster.h"
 #endif
 

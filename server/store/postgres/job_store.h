@@ -5,7 +5,7 @@
 // (schema_migrations) and brought up to date when a store is opened.
 //
 // Thread-safe: a pool of connections, every operation one short transaction on a connection of its
-// own (store/postgres_transaction.h).
+// own (store/postgres/transaction.h).
 #pragma once
 
 #include <memory>
@@ -62,7 +62,7 @@ public:
     bool remove(const std::string& id) override;
     std::vector<ExpiredJob> expiredJobs(double finishedBefore, int64_t keepNewest) override;
 
-    // Assets: store/postgres_asset_store.cpp.
+    // Assets: store/postgres/asset_store.cpp.
     AssetInsert insertAsset(Asset& asset, const std::string& bytes, int64_t maxTotalBytes) override;
     std::optional<Asset> getAsset(const std::string& id) override;
     std::shared_ptr<const std::string> assetBytes(const std::string& id) override;
@@ -72,7 +72,7 @@ public:
     int64_t assetBytesTotal() override;
     void reclaimSpace() override;
 
-    // Job files (store/postgres_job_files.cpp), for PostgresJobFiles.
+    // Job files (store/postgres/job_files.cpp), for PostgresJobFiles.
     /// Writes a file of attempt `attempt` of a job in one statement; false, writing nothing, when
     /// that is no longer the job's attempt or the job is gone.
     bool putFile(const std::string& id, int attempt, const std::string& name,
@@ -81,7 +81,7 @@ public:
     /// Removes one file of the job, or every one when `name` is empty.
     void removeFiles(const std::string& id, const std::string& name = {});
 
-    // Scale-out (store/task.h): store/postgres_tasks.cpp. Jobs inserted with taskPasses > 0 get
+    // Scale-out (store/task.h): store/postgres/tasks.cpp. Jobs inserted with taskPasses > 0 get
     // their tasks in insert()'s transaction and are rendered by tasks only (claim() skips them).
     /// Re-queues tasks whose leases expired (failing the jobs of those that stalled too often,
     /// ending cancelled jobs no task renders any more), then leases the next task to `worker`.
@@ -105,7 +105,7 @@ public:
                              result.passImages.empty() ? result.film : result.passImages);
     }
     /// Merges the results of job `id` that wait (store/task.h), at most one batch; ends the job
-    /// with its images when nothing is left to render. store/postgres_consolidation.cpp.
+    /// with its images when nothing is left to render. store/postgres/consolidation.cpp.
     Consolidation consolidate(const std::string& id, const ConsolidationLimits& limits = {});
     /// Running split jobs with results waiting whose last batch is `intervalSeconds` old, or
     /// that have no task left to render (their last batch is due at once).

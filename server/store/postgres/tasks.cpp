@@ -1,7 +1,7 @@
 // The scale-out half of the PostgreSQL store: tasks, their leases and hand-ins, and the workers
-// (store/task.h). The consolidation of results: store/postgres_consolidation.cpp.
-#include "store/postgres_job_store.h"
-#include "store/postgres_transaction.h"
+// (store/task.h). The consolidation of results: store/postgres/consolidation.cpp.
+#include "store/postgres/job_store.h"
+#include "store/postgres/transaction.h"
 
 namespace caustic::server {
 namespace postgres {
@@ -161,23 +161,32 @@ std::optional<ClaimedTask> PostgresJobStore::claimTask(const std::string& worker
 LeaseStatus PostgresJobStore::heartbeatTasks(const std::vector<Task>& tasks, double leaseSeconds) {
     return transact(*pool_, [&](pqxx::work& tx) {
         const double now = dbNow(tx);
-        bool cancelRequested = false;
+        if (tasks.empty()) return LeaseStatus::Held;
+        // One statement for every task held (of one job): a row a task, each fenced by attempt.
+        std::string firsts = "{", attempts = "{";
         for (const Task& task : tasks) {
-            pqxx::result r = tx.exec_params(
-                "UPDATE tasks SET lease_expires = $4 WHERE job_id = $1 AND first_pass = $2 AND "
-                "attempt = $3 AND state = 'running' RETURNING (SELECT state FROM jobs WHERE id = "
-                "$1), (SELECT cancel_requested FROM jobs WHERE id = $1)",
-                task.jobId, task.firstPass, task.attempt, now + leaseSeconds);
-            // Another attempt has the task, or the job ended (failed, cancelled, done): stop.
-            if (r.empty() || r[0][0].as<std::string>() != "running") return LeaseStatus::Lost;
-            cancelRequested |= r[0][1].as<bool>();
+            firsts += std::to_string(task.firstPass) + ",";
+            attempts += std::to_string(task.attempt) + ",";
         }
+        firsts.back() = '}';
+        attempts.back() = '}';
+        const pqxx::result r = tx.exec_params(
+            "UPDATE tasks t SET lease_expires = $4 FROM unnest($2::integer[], $3::integer[]) AS "
+            "h(first_pass, attempt) WHERE t.job_id = $1 AND t.first_pass = h.first_pass AND "
+            "t.attempt = h.attempt AND t.state = 'running' RETURNING t.first_pass",
+            tasks.front().jobId, firsts, attempts, now + leaseSeconds);
+        // Another attempt has one of them: stop.
+        if (r.size() != tasks.size()) return LeaseStatus::Lost;
+        // The job ended (failed, cancelled, done): stop.
+        const pqxx::row job = tx.exec_params1(
+            "SELECT state, cancel_requested FROM jobs WHERE id = $1", tasks.front().jobId);
+        if (job[0].as<std::string>() != "running") return LeaseStatus::Lost;
+        const bool cancelRequested = job[1].as<bool>();
         // The holder is alive (GET /api/workers).
-        if (!tasks.empty())
-            tx.exec_params(
-                "UPDATE workers SET last_seen = $3 WHERE id = (SELECT lease_owner FROM tasks "
-                "WHERE job_id = $1 AND first_pass = $2)",
-                tasks.front().jobId, tasks.front().firstPass, now);
+        tx.exec_params(
+            "UPDATE workers SET last_seen = $3 WHERE id = (SELECT lease_owner FROM tasks "
+            "WHERE job_id = $1 AND first_pass = $2)",
+            tasks.front().jobId, tasks.front().firstPass, now);
         return cancelRequested ? LeaseStatus::CancelRequested : LeaseStatus::Held;
     });
 }

@@ -1,12 +1,12 @@
-// Transactions of the PostgreSQL store (store/postgres_job_store.cpp, postgres_asset_store.cpp,
-// postgres_tasks.cpp): a pool of connections, each operation one transaction on a connection of
-// its own (a heartbeat never waits behind another thread's merge or upload), retried when
-// PostgreSQL aborts it for a deadlock, a serialization failure or a lock timeout, or when the
+// Transactions of the PostgreSQL store (store/postgres/job_store.cpp, asset_store.cpp,
+// tasks.cpp, consolidation.cpp): a pool of connections, each operation one transaction on a
+// connection of its own (a heartbeat never waits behind another thread's merge or upload), retried
+// when PostgreSQL aborts it for a deadlock, a serialization failure or a lock timeout, or when the
 // connection broke before the commit (reconnecting first, holding no lock while it waits); a full
 // disk is reported as StorageFull, a store still out of reach after the retries as
 // StoreUnavailable.
 //
-// Every connection bounds what a stalled peer can hold (store/postgres_pool.cpp,
+// Every connection bounds what a stalled peer can hold (store/postgres/pool.cpp,
 // docs/operations.md): statement_timeout, lock_timeout and idle_in_transaction_session_timeout on
 // the server, and connect_timeout, TCP keepalives and tcp_user_timeout on the client, unless the
 // connection string sets them.
@@ -82,7 +82,7 @@ private:
 inline constexpr const char* kNow = "EXTRACT(EPOCH FROM now())::DOUBLE PRECISION";
 
 /// The channel every change of a job is announced on (NOTIFY, delivered at commit), so that API
-/// processes anywhere wake their event streams (farm/store_listener.h).
+/// processes anywhere wake their event streams (store/postgres/listener.h).
 inline constexpr const char* kJobsChannel = "caustic_jobs";
 void notifyJobs(pqxx::work& tx);
 /// A job with its assets; with `lock`, its row locked until the transaction ends.

@@ -1,4 +1,4 @@
-#include "store/postgres_schema.h"
+#include "store/postgres/schema.h"
 
 #include <stdexcept>
 #include <string>

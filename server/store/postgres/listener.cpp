@@ -1,4 +1,4 @@
-#include "store/postgres_listener.h"
+#include "store/postgres/listener.h"
 
 #include <pqxx/pqxx>
 
@@ -6,7 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "store/postgres_transaction.h"
+#include "store/postgres/transaction.h"
 
 namespace caustic::server {
 namespace {

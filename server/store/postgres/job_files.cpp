@@ -1,6 +1,6 @@
-// The job-file half of the PostgreSQL store (store/postgres_job_files.h).
-#include "store/postgres_job_store.h"
-#include "store/postgres_transaction.h"
+// The job-file half of the PostgreSQL store (store/postgres/job_files.h).
+#include "store/postgres/job_store.h"
+#include "store/postgres/transaction.h"
 
 namespace caustic::server {
 using postgres::transact;

@@ -1,4 +1,4 @@
-#include "store/postgres_job_store.h"
+#include "store/postgres/job_store.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,8 +11,8 @@
 #include <spdlog/spdlog.h>
 
 #include "store/page.h"
-#include "store/postgres_schema.h"
-#include "store/postgres_transaction.h"
+#include "store/postgres/schema.h"
+#include "store/postgres/transaction.h"
 
 namespace caustic::server {
 using postgres::getJob;

@@ -4,8 +4,8 @@
 #include <nlohmann/json.hpp>
 
 #include "store/page.h"
-#include "store/sqlite_job_store.h"
-#include "store/sqlite_statement.h"
+#include "store/sqlite/job_store.h"
+#include "store/sqlite/statement.h"
 
 namespace caustic::server {
 using sqlite::exec;

@@ -2,7 +2,7 @@
 
 #include <cctype>
 
-#include "store/postgres_transaction.h"
+#include "store/postgres/transaction.h"
 
 namespace caustic::server::postgres {
 namespace {

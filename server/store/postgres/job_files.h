@@ -4,7 +4,7 @@
 #pragma once
 
 #include "store/job_files.h"
-#include "store/postgres_job_store.h"
+#include "store/postgres/job_store.h"
 
 namespace caustic::server {
 

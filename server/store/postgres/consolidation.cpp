@@ -13,8 +13,8 @@
 #include "render/settings.h"
 #include "render/stopping.h"
 #include "store/pass_images.h"
-#include "store/postgres_job_store.h"
-#include "store/postgres_transaction.h"
+#include "store/postgres/job_store.h"
+#include "store/postgres/transaction.h"
 
 namespace caustic::server {
 using postgres::dbNow;

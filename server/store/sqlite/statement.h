@@ -1,5 +1,5 @@
 // Small RAII helpers over SQLite's C API, shared by the job store's files
-// (store/sqlite_job_store.cpp, store/sqlite_asset_store.cpp): prepared statements, exec and
+// (store/sqlite/job_store.cpp, store/sqlite/asset_store.cpp): prepared statements, exec and
 // transactions. Not thread-safe by themselves: the store's mutex serializes their use.
 #pragma once
 

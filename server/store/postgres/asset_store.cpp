@@ -3,8 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include "store/page.h"
-#include "store/postgres_job_store.h"
-#include "store/postgres_transaction.h"
+#include "store/postgres/job_store.h"
+#include "store/postgres/transaction.h"
 
 namespace caustic::server {
 using postgres::transact;

@@ -1,11 +1,11 @@
-#include "store/sqlite_job_store.h"
+#include "store/sqlite/job_store.h"
 
 #include <sqlite3.h>
 
 #include <stdexcept>
 
 #include "store/page.h"
-#include "store/sqlite_statement.h"
+#include "store/sqlite/statement.h"
 
 namespace caustic::server {
 using sqlite::exec;

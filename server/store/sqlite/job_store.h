@@ -39,7 +39,7 @@ public:
     bool remove(const std::string& id) override;
     std::vector<ExpiredJob> expiredJobs(double finishedBefore, int64_t keepNewest) override;
 
-    // Assets: store/sqlite_asset_store.cpp.
+    // Assets: store/sqlite/asset_store.cpp.
     AssetInsert insertAsset(Asset& asset, const std::string& bytes, int64_t maxTotalBytes) override;
     std::optional<Asset> getAsset(const std::string& id) override;
     std::shared_ptr<const std::string> assetBytes(const std::string& id) override;
