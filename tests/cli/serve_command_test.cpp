@@ -72,8 +72,9 @@ TEST(ServeCommand, HelpStatesDefaultsAndRanges) {
 TEST(WorkerCommand, NeedsAPostgresStoreAndAWorker) {
     CliRun r = runCli("worker --help");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    for (const char* line : {"--store URL REQUIRED", "--workers INT in [1, 64]=1",
-                             "--threads INT in [0, 1024]=0", "--block-after-failures"})
+    for (const char* line :
+         {"--store URL REQUIRED", "--workers INT in [1, 64]=1", "--threads INT in [0, 1024]=0",
+          "--block-after-failures", "--hand-in-seconds NUMBER in [0, 3600]=120"})
         EXPECT_NE(r.output.find(line), std::string::npos) << line << " not in:\n" << r.output;
     r = runCli("worker --store postgresql://127.0.0.1:1/x --workers 0");
     EXPECT_EQ(r.exitCode, 2) << r.output;

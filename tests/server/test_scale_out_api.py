@@ -4,7 +4,7 @@ connection string's password is never printed."""
 
 import pytest
 
-from conftest import run_to_end, submit_ok, tiny_scene
+from conftest import assert_problem, run_to_end, submit_ok, tiny_scene
 from farm import Worker
 
 pytestmark = pytest.mark.scaleout
@@ -27,6 +27,21 @@ def test_a_job_submitted_to_one_api_process_is_followed_on_another(farm, start_s
     assert job["id"] in [j["id"] for j in other.get("/api/jobs").json()["jobs"]]
     assert other.delete(f"/api/jobs/{job['id']}").status_code == 204
     assert api.get(f"/api/jobs/{job['id']}").status_code == 404
+
+
+def test_a_target_errors_tasks_hold_at_most_256_mib_of_pass_images(farm, postgres):
+    api, _ = farm(workers=0)
+    body = {"scene": tiny_scene(width=2048, height=2048),
+            "settings": {"spp": 64, "spp_per_pass": 1, "target_error": 0.01}}
+    # 2048² is 48 MiB a pass: 5 a task at most. Asked for more: refused, naming the field.
+    assert_problem(api.submit({**body, "task_passes": 6}), 422, pointer="/task_passes",
+                   detail="at most 5 passes a task")
+    assert submit_ok(api, {**body, "task_passes": 5})["state"] == "queued"
+    # The server's default (8) is cut to fit.
+    job = submit_ok(api, body)
+    widest = postgres.psql(f"SELECT max(last_pass - first_pass) FROM tasks WHERE job_id = "
+                           f"'{job['id']}'", database=api.store.rsplit("/", 1)[1])
+    assert int(widest) == 5, widest
 
 
 def test_serve_with_workers_renders_the_tasks_itself(postgres, start_server):

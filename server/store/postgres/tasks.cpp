@@ -170,13 +170,24 @@ LeaseStatus PostgresJobStore::heartbeatTasks(const std::vector<Task>& tasks, dou
         }
         firsts.back() = '}';
         attempts.back() = '}';
+        // Rows a hand-in of this worker's holds are skipped, not waited for (it locks them all
+        // first): neither waits for the other, and a claim's sweep skips them too.
         const pqxx::result r = tx.exec_params(
-            "UPDATE tasks t SET lease_expires = $4 FROM unnest($2::integer[], $3::integer[]) AS "
-            "h(first_pass, attempt) WHERE t.job_id = $1 AND t.first_pass = h.first_pass AND "
-            "t.attempt = h.attempt AND t.state = 'running' RETURNING t.first_pass",
+            "WITH held AS (SELECT t.first_pass FROM tasks t JOIN unnest($2::integer[], "
+            "$3::integer[]) AS h(first_pass, attempt) ON t.first_pass = h.first_pass AND "
+            "t.attempt = h.attempt WHERE t.job_id = $1 AND t.state = 'running' FOR UPDATE OF t "
+            "SKIP LOCKED) UPDATE tasks SET lease_expires = $4 FROM held WHERE tasks.job_id = $1 "
+            "AND tasks.first_pass = held.first_pass RETURNING tasks.first_pass",
             tasks.front().jobId, firsts, attempts, now + leaseSeconds);
-        // Another attempt has one of them: stop.
-        if (r.size() != tasks.size()) return LeaseStatus::Lost;
+        // Another attempt has one of them: stop. (One skipped is being handed in: still held.)
+        if (r.size() != tasks.size() &&
+            tx.exec_params1("SELECT COUNT(*) FROM tasks t JOIN unnest($2::integer[], "
+                            "$3::integer[]) AS h(first_pass, attempt) ON t.first_pass = "
+                            "h.first_pass AND t.attempt = h.attempt WHERE t.job_id = $1 AND "
+                            "t.state IN ('running', 'done')",
+                            tasks.front().jobId, firsts, attempts)[0]
+                    .as<size_t>() != tasks.size())
+            return LeaseStatus::Lost;
         // The job ended (failed, cancelled, done): stop.
         const pqxx::row job = tx.exec_params1(
             "SELECT state, cancel_requested FROM jobs WHERE id = $1", tasks.front().jobId);
@@ -206,6 +217,15 @@ TaskCommit PostgresJobStore::completeTasks(const std::vector<TaskDone>& tasks,
     const Task& holder = tasks.front().task;
     try {
         return transact(*pool_, [&](pqxx::work& tx) {
+            // Every row first, in one statement and in order: a heartbeat skips them from here
+            // on, and no two transactions take them in different orders.
+            std::string firsts = "{";
+            for (const TaskDone& done : tasks) firsts += std::to_string(done.task.firstPass) + ",";
+            firsts.back() = '}';
+            tx.exec_params(
+                "SELECT 1 FROM tasks WHERE job_id = $1 AND first_pass = ANY($2::integer[]) ORDER "
+                "BY first_pass FOR UPDATE",
+                holder.jobId, firsts);
             for (const TaskDone& done : tasks) {
                 const Task& t = done.task;
                 endHoldersTask(tx, t, /*done=*/true);
