@@ -125,8 +125,9 @@ def reopens_with(tmpfs, server, jobs):
 def test_full_disk_refuses_jobs_fails_the_running_one_and_recovers(tmpfs):
     server = tmpfs.start("--min-free-mib", "1", "--lease-seconds", "2")
     before = tiny_job_ok(server, seed=1)
-    # A job of many short passes, each checkpointed (a 64x64 film).
-    running = submit_ok(server, {"scene": tiny_scene(width=64, height=64),
+    # A job of many short passes, each checkpointed (a 160x160 film: films are stored compactly,
+    # and half a checkpoint must leave room for the job's failure in the store).
+    running = submit_ok(server, {"scene": tiny_scene(width=160, height=160),
                                  "settings": {"spp": 60000, "spp_per_pass": 1,
                                               "time_limit": 100}})["id"]
     end = time.monotonic() + 30
