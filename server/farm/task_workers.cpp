@@ -44,11 +44,6 @@ struct TaskWorkers::Chain {
     std::unique_ptr<LeaseKeeper> lease;
 
     bool empty() const { return done.empty(); }
-    std::vector<Task> tasks() const {
-        std::vector<Task> all;
-        for (const TaskDone& d : done) all.push_back(d.task);
-        return all;
-    }
     /// Holds nothing more (the job's pace of hand-ins stays).
     void clear() {
         lease.reset();

@@ -63,6 +63,15 @@ bool requeueTask(pqxx::work& tx, const Task& task) {
                .affected_rows() > 0;
 }
 
+// A PostgreSQL integer array literal ("{1,2,3}") of field(item) for each item (not empty).
+template <class T, class F>
+std::string arrayOf(const std::vector<T>& items, F field) {
+    std::string out = "{";
+    for (const T& item : items) out += std::to_string(field(item)) + ",";
+    out.back() = '}';
+    return out;
+}
+
 // Fails job `id` once the workers blocked from it (store/task.h, "Faults") are
 // `failAfterWorkers`, or every worker alive; `error` is the last failure's. False when it goes on.
 bool failIfBlocked(pqxx::work& tx, const std::string& id, double now, const FarmPolicy& policy,
@@ -163,13 +172,8 @@ LeaseStatus PostgresJobStore::heartbeatTasks(const std::vector<Task>& tasks, dou
         const double now = dbNow(tx);
         if (tasks.empty()) return LeaseStatus::Held;
         // One statement for every task held (of one job): a row a task, each fenced by attempt.
-        std::string firsts = "{", attempts = "{";
-        for (const Task& task : tasks) {
-            firsts += std::to_string(task.firstPass) + ",";
-            attempts += std::to_string(task.attempt) + ",";
-        }
-        firsts.back() = '}';
-        attempts.back() = '}';
+        const std::string firsts = arrayOf(tasks, [](const Task& t) { return t.firstPass; });
+        const std::string attempts = arrayOf(tasks, [](const Task& t) { return t.attempt; });
         // Rows a hand-in of this worker's holds are skipped, not waited for (it locks them all
         // first): neither waits for the other, and a claim's sweep skips them too.
         const pqxx::result r = tx.exec_params(
@@ -219,9 +223,8 @@ TaskCommit PostgresJobStore::completeTasks(const std::vector<TaskDone>& tasks,
         return transact(*pool_, [&](pqxx::work& tx) {
             // Every row first, in one statement and in order: a heartbeat skips them from here
             // on, and no two transactions take them in different orders.
-            std::string firsts = "{";
-            for (const TaskDone& done : tasks) firsts += std::to_string(done.task.firstPass) + ",";
-            firsts.back() = '}';
+            const std::string firsts =
+                arrayOf(tasks, [](const TaskDone& d) { return d.task.firstPass; });
             tx.exec_params(
                 "SELECT 1 FROM tasks WHERE job_id = $1 AND first_pass = ANY($2::integer[]) ORDER "
                 "BY first_pass FOR UPDATE",
