@@ -93,6 +93,17 @@ void addLimits(CLI::App& limits, server::ServiceLimits& l) {
                    "Jobs waiting to run (429 above)");
     cli::addNumber(limits, "--max-event-streams", l.maxEventStreams, 1, 4096,
                    "Concurrent Server-Sent Events connections");
+    cli::addNumber(limits, "--max-connections", l.maxConnections, 1, 1e6,
+                   "Connections open at once, from all clients (503 above)");
+    cli::addNumber(limits, "--max-connections-per-client", l.maxConnectionsPerClient, 0, 1e6,
+                   "Connections open at once from one address (429 above); 0 for no limit, as "
+                   "behind a reverse proxy, whose address every request has");
+    cli::addNumber(limits, "--request-head-seconds", l.requestHeadSeconds, 0.1, 3600,
+                   "Seconds a request's head (request line and headers) may take to arrive, from "
+                   "the connection's opening or its previous response; a slower one is cut");
+    cli::addNumber(limits, "--min-body-rate", l.minBodyBytesPerSecond, 1, 1e12,
+                   "Bytes a second a request body must average, after --request-head-seconds of "
+                   "grace; a slower one is cut");
     // At most SQLite's default SQLITE_MAX_LENGTH, the largest BLOB the store can hold.
     cli::addNumber(limits, "--max-asset-bytes", l.maxAssetBytes, 1024, 1e9,
                    "Largest uploaded mesh file (413 above)");

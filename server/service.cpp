@@ -21,6 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr int kKeepAliveSeconds = 5;
+
 // The fault record (see the constructor): a file in the data folder that a process dying of a
 // fault writes one line to, from a signal handler, so only with async-signal-safe calls.
 std::atomic<int> faultFd{-1};
@@ -43,20 +45,6 @@ extern "C" void recordFault(int sig) {
     ::raise(sig);
 }
 
-// cpp-httplib's TLS server (OpenSSL; Debian builds cpp-httplib with it) when a certificate is
-// given, plain HTTP otherwise.
-std::unique_ptr<httplib::Server> makeHttpServer(const ServerConfig& config) {
-    if (!config.tls()) return std::make_unique<httplib::Server>();
-    auto server =
-        std::make_unique<httplib::SSLServer>(config.tlsCert.c_str(), config.tlsKey.c_str());
-    if (!server->is_valid())
-        throw std::runtime_error("cannot use the TLS certificate " + config.tlsCert.string() +
-                                 " with the key " + config.tlsKey.string() +
-                                 ": each must be a readable PEM file, and the key the "
-                                 "certificate's");
-    return server;
-}
-
 }  // namespace
 
 RenderService::RenderService(ServerConfig config) : config_(std::move(config)) {
@@ -71,17 +59,11 @@ RenderService::RenderService(ServerConfig config) : config_(std::move(config)) {
     retention_ = std::make_unique<RetentionSweeper>(config_, *store_, *files_, events_, storage_);
     jobs_ = std::make_unique<JobService>(config_, *store_, *files_, events_, [this] { wake(); });
     assets_ = std::make_unique<AssetService>(config_, *store_);
-    http_ = makeHttpServer(config_);
-    // No Nagle delay: a response goes out in more than one write (headers, body), and on a
-    // kept-alive connection the second would wait for the client's delayed ACK, 40 ms a request.
-    // Set before bind(): accepted sockets inherit it from the listening one.
-    http_->set_tcp_nodelay(true);
-    // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second server on a
-    // port in use starts without an error and takes a share of its connections.
-    http_->set_socket_options([](socket_t sock) {
-        int yes = 1;
-        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    });
+    http_ = makeGatedServer(config_.tlsCert.string(), config_.tlsKey.string());
+    // Request threads: event streams hold one each for as long as they are open.
+    const int threads = config_.limits.maxEventStreams + 16;
+    gate_ = std::make_unique<ConnectionGate>(*http_, config_.limits, threads, config_.tls(),
+                                             kKeepAliveSeconds, connections_);
 }
 
 void RenderService::openEmbeddedStore() {
@@ -160,28 +142,20 @@ RenderService::~RenderService() {
 }
 
 int RenderService::bind() {
-    if (config_.port == 0) {
-        config_.port = http_->bind_to_any_port(config_.host);
-        if (config_.port > 0) return config_.port;
-    } else if (http_->bind_to_port(config_.host, config_.port)) {
-        return config_.port;
-    }
-    throw std::runtime_error("cannot listen on " + config_.host + ":" +
-                             std::to_string(config_.port));
+    config_.port = gate_->bind(config_.host, config_.port);
+    return config_.port;
 }
 
 void RenderService::serve() {
-    // Request threads: event streams hold one each for as long as they are open.
-    const size_t threads = size_t(config_.limits.maxEventStreams) + 16;
-    http_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-    http_->set_keep_alive_timeout(5);
+    http_->set_keep_alive_timeout(kKeepAliveSeconds);
     http_->set_read_timeout(10);
     http_->set_write_timeout(10);
-    ApiContext api{config_, *jobs_, counters_, eventStreams_, stopping_, storage_, *assets_, farm_};
+    ApiContext api{config_,  *jobs_,   counters_, eventStreams_, stopping_,
+                   storage_, *assets_, farm_,     connections_};
     registerRoutes(*http_, api);
     startWorkers(true);
     retention_->start();
-    http_->listen_after_bind();
+    gate_->run();
     retention_->stop();
     startWorkers(false);
 }
@@ -197,7 +171,7 @@ void RenderService::wake() {
 void RenderService::stop() {
     stopping_ = true;
     events_.notify();
-    if (http_) http_->stop();
+    if (gate_) gate_->stop();
 }
 
 }  // namespace caustic::server

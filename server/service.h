@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "http/connection_gate.h"
 #include "jobs/asset_service.h"
 #include "jobs/job_events.h"
 #include "jobs/job_service.h"
@@ -63,7 +64,9 @@ private:
     std::unique_ptr<RetentionSweeper> retention_;
     std::unique_ptr<JobService> jobs_;
     std::unique_ptr<AssetService> assets_;
-    std::unique_ptr<httplib::Server> http_;
+    std::unique_ptr<httplib::Server> http_;  ///< Routes and serves requests.
+    ConnectionCounters connections_;
+    std::unique_ptr<ConnectionGate> gate_;  ///< Accepts connections and hands them to http_.
     std::atomic<int> eventStreams_{0};
     std::atomic<bool> stopping_{false};
 };

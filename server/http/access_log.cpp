@@ -1,5 +1,7 @@
 #include "http/access_log.h"
 
+#include "http/connection_gate.h"
+
 #include <chrono>
 #include <string>
 
@@ -63,6 +65,8 @@ void installAccessLog(httplib::Server& http) {
                                                                                  requestStart.time)
                                            .count());
         requestStart = {};
+        // The logger is cpp-httplib's one hook after a response is written.
+        ConnectionGate::responded();
         log->info("{} {} {} {} {} {} ms", peerOf(req), req.method.empty() ? "-" : req.method,
                   escaped(req.path), res.status, bytesOf(res), ms);
     });

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "http/access_log.h"
+#include "http/connection_gate.h"
 #include "http/media_types.h"
 #include "http/problem.h"
 #include "http/same_origin.h"
@@ -101,6 +102,7 @@ httplib::Server::HandlerResponse checkRequest(const ServerConfig& config,
 void installGuards(httplib::Server& http, const ServerConfig& config) {
     http.set_pre_routing_handler([&config](const httplib::Request& req, httplib::Response& res) {
         markRequestStart(req);
+        ConnectionGate::headRead(req.get_header_value<uint64_t>("Content-Length"));
         return checkRequest(config, req, res);
     });
     // Every error without a body of its own (unknown routes, a body over the limit) gets one.

@@ -53,6 +53,32 @@ void farmMetrics(FarmStore& farm, std::ostream& out) {
         << "caustic_workers " << farm.listWorkers(kWorkerAliveSeconds).size() << "\n";
 }
 
+// The connections (http/connection_gate.h): open, on a thread, refused and cut.
+void connectionMetrics(const ConnectionCounters& c, std::ostream& out) {
+    out << "# HELP caustic_http_connections Connections open, waiting for their request or "
+           "served.\n# TYPE caustic_http_connections gauge\n"
+        << "caustic_http_connections " << c.open.load() << "\n"
+        << "# HELP caustic_http_busy_threads Request threads serving a connection.\n"
+           "# TYPE caustic_http_busy_threads gauge\n"
+        << "caustic_http_busy_threads " << c.busyThreads.load() << "\n"
+        << "# HELP caustic_http_connections_accepted_total Connections accepted.\n"
+           "# TYPE caustic_http_connections_accepted_total counter\n"
+        << "caustic_http_connections_accepted_total " << c.accepted.load() << "\n"
+        << "# HELP caustic_http_connections_refused_total Connections refused on arrival, by "
+           "limit.\n# TYPE caustic_http_connections_refused_total counter\n"
+        << "caustic_http_connections_refused_total{reason=\"per_client\"} "
+        << c.refusedPerClient.load() << "\n"
+        << "caustic_http_connections_refused_total{reason=\"max_connections\"} "
+        << c.refusedFull.load() << "\n"
+        << "# HELP caustic_http_requests_cut_total Requests cut for coming too slowly, or "
+           "kept-alive "
+           "connections closed while others waited for a thread.\n"
+           "# TYPE caustic_http_requests_cut_total counter\n"
+        << "caustic_http_requests_cut_total{reason=\"head\"} " << c.cutHead.load() << "\n"
+        << "caustic_http_requests_cut_total{reason=\"body\"} " << c.cutBody.load() << "\n"
+        << "caustic_http_requests_cut_total{reason=\"idle\"} " << c.cutIdle.load() << "\n";
+}
+
 std::string metricsText(ApiContext& api) {
     std::map<JobState, int64_t> counts = api.jobs.countByState();
     std::ostringstream out;
@@ -82,6 +108,7 @@ std::string metricsText(ApiContext& api) {
         << "caustic_mesh_scans_total " << api.jobs.meshScans() << "\n";
     if (api.farm) farmMetrics(*api.farm, out);
     storageMetrics(api, out);
+    connectionMetrics(api.connections, out);
     return out.str();
 }
 

@@ -10,11 +10,12 @@
 namespace caustic::server {
 
 void streamJobEvents(ApiContext& api, const std::string& id, httplib::Response& res) {
-    if (api.eventStreams.load() >= api.config.limits.maxEventStreams) {
+    // Counted before it is checked: two requests at the limit cannot both pass.
+    if (api.eventStreams.fetch_add(1) >= api.config.limits.maxEventStreams) {
+        --api.eventStreams;
         res.set_header("Retry-After", "5");
         return sendProblem(res, 429, "too many event streams are open");
     }
-    ++api.eventStreams;
     res.set_header("Cache-Control", "no-store");
     res.set_chunked_content_provider(
         "text/event-stream",

@@ -7,6 +7,7 @@
 
 #include <httplib.h>
 
+#include "http/connection_gate.h"
 #include "jobs/asset_service.h"
 #include "jobs/job_service.h"
 #include "jobs/retention.h"
@@ -25,6 +26,7 @@ struct ApiContext {
     const StorageCounters& storage;
     AssetService& assets;
     FarmStore* farm = nullptr;  ///< A store shared with worker processes; null for SQLite.
+    const ConnectionCounters& connections;
 };
 
 /// Registers every route, the guards (http/guards.h), the error bodies and the static files.
