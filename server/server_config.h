@@ -24,10 +24,10 @@ struct ServiceLimits {
     int maxQueuedJobs = 100;        ///< Queued (not yet running) jobs.
     int maxEventStreams = 64;       ///< Concurrent Server-Sent Events connections.
     // Connections (http/connection_gate.h): what one client may hold, and how slowly it may send.
-    int maxConnections = 1024;         ///< Open at once, all clients (503 above).
-    int maxConnectionsPerClient = 32;  ///< Open at once from one address; 0 for no limit (429).
-    double requestHeadSeconds = 10;    ///< For a request's head, from connect or last response.
-    int64_t minBodyBytesPerSecond = 65536;     ///< A body's average rate, after the head's seconds.
+    int maxConnections = 1024;             ///< Open at once, all clients (503 above).
+    int maxConnectionsPerClient = 32;      ///< Open at once from one address; 0 for no limit (429).
+    double requestHeadSeconds = 10;        ///< For a request's head, from connect or last response.
+    int64_t minBodyBytesPerSecond = 8192;  ///< A body's average rate, after the head's seconds.
     size_t maxAssetBytes = size_t(256) << 20;  ///< One uploaded mesh file (413 above).
     int64_t maxAssetTriangles = 20000000;      ///< One uploaded mesh, as loaded (422 above).
     int64_t maxAssetStorageMiB = 4096;         ///< Every stored asset together (507 above).

@@ -30,9 +30,11 @@ using Clock = std::chrono::steady_clock;
 // A head longer than this is handed over as it is: cpp-httplib answers it (414 or 400).
 constexpr size_t kHeadLimit = 16 * 1024;
 // A body's first bytes, up to this many, wait in the gate with its head (they fit a socket's
-// receive buffer): a job's JSON never holds a thread while it trickles in, and a larger body
-// takes a thread only once it is coming.
+// receive buffer), for at most kBodyWait: a job's JSON comes whole to its thread. A client may
+// send its head alone and wait for the answer (Expect: 100-continue, or to learn that its body is
+// too large): after kBodyWait it gets a thread anyway, where --min-body-rate holds it.
 constexpr uint64_t kGatedBodyBytes = 16 * 1024;
+constexpr auto kBodyWait = std::chrono::milliseconds(500);
 // What cpp-httplib may have read into its own buffer beyond the head (SocketStream's 4 KiB).
 constexpr uint64_t kReadAhead = 4096;
 // A head that grows by less than this is looked at again on the next sweep, not at once: a client
@@ -96,23 +98,32 @@ size_t headEnd(std::string_view bytes) {
     return 0;
 }
 
-// The head's Content-Length (0 without one; the guards answer a bad one).
-uint64_t contentLength(std::string_view head) {
-    constexpr std::string_view name = "\ncontent-length:";
-    for (size_t i = 0; i + name.size() <= head.size(); ++i) {
-        if (!std::equal(name.begin(), name.end(), head.begin() + i,
+// The value of the header `name` (lowercase, with its colon) in a request's head, empty without it.
+std::string_view headerValue(std::string_view head, std::string_view name) {
+    for (size_t line = head.find('\n'); line != std::string_view::npos;
+         line = head.find('\n', line + 1)) {
+        std::string_view rest = head.substr(line + 1);
+        if (rest.size() < name.size() ||
+            !std::equal(name.begin(), name.end(), rest.begin(),
                         [](char a, char b) { return a == std::tolower((unsigned char)b); }))
             continue;
-        uint64_t n = 0;
-        for (size_t j = i + name.size(); j < head.size(); ++j) {
-            char c = head[j];
-            if (c == ' ' || c == '\t') continue;
-            if (c < '0' || c > '9') break;
-            n = std::min<uint64_t>(n * 10 + uint64_t(c - '0'), uint64_t(1) << 62);
-        }
-        return n;
+        rest = rest.substr(name.size());
+        rest = rest.substr(0, std::min(rest.find('\r'), rest.find('\n')));
+        while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t'))
+            rest.remove_prefix(1);
+        return rest;
     }
-    return 0;
+    return {};
+}
+
+// The head's Content-Length (0 without one or a bad one: the guards answer that).
+uint64_t contentLength(std::string_view head) {
+    uint64_t n = 0;
+    for (char c : headerValue(head, "content-length:")) {
+        if (c < '0' || c > '9') break;
+        n = std::min<uint64_t>(n * 10 + uint64_t(c - '0'), uint64_t(1) << 62);
+    }
+    return n;
 }
 
 size_t available(int fd) {
@@ -127,8 +138,9 @@ struct ConnectionGate::Waiting {
     std::string client;
     Clock::time_point deadline;
     Clock::time_point lastPeek;
-    size_t scanned = 0;  ///< Bytes looked at for the end of the head.
-    size_t need = 0;     ///< Head and gated body, once the head's end is known.
+    size_t scanned = 0;        ///< Bytes looked at for the end of the head.
+    size_t need = 0;           ///< Head and gated body, once the head's end is known.
+    Clock::time_point headAt;  ///< When the head's end was seen.
     bool lingering = false;
 };
 
@@ -146,7 +158,7 @@ struct ConnectionGate::Serving {
     std::atomic<int64_t> headTicks{0};
     bool cut = false;
     double headSeconds = 10;
-    double minBodyRate = 65536;
+    double minBodyRate = 8192;
 };
 
 namespace {
@@ -407,13 +419,16 @@ void ConnectionGate::check(Waiting& w, Clock::time_point now, bool event) {
         w.scanned = bytes.size();
         w.lastPeek = now;
         if (size_t end = headEnd(bytes)) {
-            const uint64_t length = contentLength(std::string_view(bytes).substr(0, end));
-            w.need = end + size_t(std::min(length, kGatedBodyBytes));
+            const std::string_view head = std::string_view(bytes).substr(0, end);
+            // A client that expects 100 Continue sends its body only when told to.
+            const bool expects = !headerValue(head, "expect:").empty();
+            w.need = end + size_t(expects ? 0 : std::min(contentLength(head), kGatedBodyBytes));
+            w.headAt = now;
         } else if (bytes.size() >= kHeadLimit) {
             return handOver(fd);
         }
     }
-    if (w.need > 0 && avail >= w.need) handOver(fd);
+    if (w.need > 0 && (avail >= w.need || now - w.headAt >= kBodyWait)) handOver(fd);
 }
 
 void ConnectionGate::closeWaiting(int fd) {
@@ -456,7 +471,8 @@ void ConnectionGate::sweep(Clock::time_point now) {
         if (now >= w.deadline) {
             late.push_back(fd);
             if (!w.lingering) ++counters_.cutHead;
-        } else if (!w.lingering && available(fd) > w.scanned) {
+        } else if (!w.lingering &&
+                   (w.need > 0 ? now - w.headAt >= kBodyWait : available(fd) > w.scanned)) {
             grown.push_back(fd);
         }
     }
