@@ -30,8 +30,9 @@ if ! $build_only; then
     packages+=(
         git openimageio-tools
         # The PostgreSQL server for the tests' throwaway clusters (tests/support/postgres.sh), and
-        # libfaketime for workers whose clocks are off (tests/server/test_scale_out_clocks_and_cuts.py)
-        postgresql faketime
+        # libfaketime for workers whose clocks are off (tests/server/test_scale_out_clocks_and_cuts.py),
+        # strace for the order of a job's syncs and commit (tests/server/test_power_loss.py)
+        postgresql faketime strace
         # Tests and benchmarks (python3-venv: bench/mitsuba_compare.sh pip-installs Mitsuba 3 into a
         # venv; wrk and curl: bench/status_latency.sh; openssl: the TLS tests' certificates; curl
         # and jq: the README's HTTP example, which tests/docs/quickstart_test.py runs)

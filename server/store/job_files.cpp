@@ -8,6 +8,7 @@
 #include <iterator>
 #include <random>
 #include <stdexcept>
+#include <vector>
 
 #include "film/image_io.h"
 #include "store/disk_space.h"
@@ -36,9 +37,33 @@ int writeNewFile(const fs::path& file, const std::string& bytes) {
         else if (n == 0 || errno != EINTR)
             error = n == 0 ? ENOSPC : errno;  // write(2) returns 0 only when nothing fits
     }
+    // On the disk before it is renamed into place: a rename can reach the disk before the data
+    // it names, leaving an empty file after a power cut (ext4 with data=writeback, XFS).
+    if (error == 0 && ::fsync(fd) != 0) error = errno;
     // close(2) can report a deferred write error (NFS, quotas).
     if (::close(fd) != 0 && error == 0) error = errno;
     return error;
+}
+
+// Makes a folder's entries durable: a file created or renamed in it is in the folder only once the
+// folder itself is synced (fsync(2): "Calling fsync() does not necessarily ensure that the entry in
+// the directory containing the file has also reached disk"), as SQLite does for its journal.
+int syncFolder(const fs::path& folder) {
+    int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return errno;
+    int error = ::fsync(fd) == 0 ? 0 : errno;
+    ::close(fd);
+    return error;
+}
+
+// The folders from `file`'s up to the first that exists, which creating them adds an entry to.
+std::vector<fs::path> foldersToCreate(const fs::path& file) {
+    std::vector<fs::path> folders;
+    fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    for (; !folder.empty() && !fs::exists(folder); folder = folder.parent_path())
+        folders.push_back(folder);
+    if (!folder.empty()) folders.push_back(folder);
+    return folders;
 }
 
 }  // namespace
@@ -48,9 +73,13 @@ void writeFileAtomically(const fs::path& file, const std::string& bytes) {
     tmp += ".tmp" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}());
     int error = 0;
     try {
+        // The file's folder and any folder created for it are synced after the rename: the file
+        // is on the disk when this returns (and a commit that names it may follow).
+        const std::vector<fs::path> folders = foldersToCreate(file);
         fs::create_directories(file.parent_path());
         error = writeNewFile(tmp, bytes);
         if (error == 0) fs::rename(tmp, file);
+        for (size_t i = 0; i < folders.size() && error == 0; ++i) error = syncFolder(folders[i]);
     } catch (const fs::filesystem_error& e) {
         error = e.code().value();
     }

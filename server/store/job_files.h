@@ -65,7 +65,9 @@ private:
     std::filesystem::path root_;
 };
 
-/// Writes `bytes` to `file` through a temporary file in the same folder and a rename.
+/// Writes `bytes` to `file` through a temporary file in the same folder and a rename, and syncs
+/// the file and its folder (and any folder created for it): when it returns, the file survives a
+/// power cut. Throws StorageFull on a full disk, std::runtime_error on other failures.
 void writeFileAtomically(const std::filesystem::path& file, const std::string& bytes);
 
 }  // namespace caustic::server
