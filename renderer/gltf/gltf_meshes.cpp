@@ -78,7 +78,7 @@ void append(TriangleMesh& mesh, TriangleMesh part) {
 }  // namespace
 
 GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& nodes,
-                    const MeshErrors& errors) {
+                    const MeshErrors& errors, uint64_t maxTriangles) {
     GltfDraws out;
     constexpr size_t kSkippedListed = 8;
     size_t skipped = 0;
@@ -150,11 +150,21 @@ GltfDraws gltfDraws(const tinygltf::Model& m, const std::vector<NodeInstance>& n
             const bool fits = draw.vertices <= room && draw.triangles <= room - draw.vertices;
             out.vertices += fits ? draw.vertices : 0;
             out.triangles += fits ? draw.triangles : 0;
+            const std::string node =
+                gltfObjectName("node", instance.node, m.nodes[instance.node].name);
             if (!fits)
-                errors.fail(gltfObjectName("node", instance.node, m.nodes[instance.node].name) +
-                            ": the nodes' meshes make more than " +
+                errors.fail(node + ": the nodes' meshes make more than " +
                             std::to_string(kMaxGlbElements) +
                             " vertices and triangles together, the most a glTF file may make");
+            // The caller's limit, held as the nodes are counted: no instance is built beyond it.
+            if (out.triangles > maxTriangles ||
+                out.vertices > kMaxVerticesPerTriangle * maxTriangles)
+                errors.overLimit(node + ": the nodes' meshes make " +
+                                 std::to_string(out.triangles) + " triangles and " +
+                                 std::to_string(out.vertices) +
+                                 " vertices so far, over the limit of " +
+                                 std::to_string(maxTriangles) + " triangles (and " +
+                                 std::to_string(kMaxVerticesPerTriangle) + " vertices each)");
             out.draws.push_back(draw);
         }
     }
@@ -229,8 +239,8 @@ TriangleMesh readDraw(const tinygltf::Model& m, const GltfDraw& draw,
 }
 
 TriangleMesh joinedMesh(const tinygltf::Model& model, const MeshTransform& transform,
-                        bool texcoords, const MeshErrors& errors) {
-    GltfDraws draws = gltfDraws(model, walkNodes(model, errors), errors);
+                        bool texcoords, const MeshErrors& errors, uint64_t maxTriangles) {
+    GltfDraws draws = gltfDraws(model, walkNodes(model, errors), errors, maxTriangles);
     TriangleMesh mesh;
     for (const GltfDraw& draw : draws.draws)
         append(mesh, readDraw(model, draw, transform, texcoords, errors));

@@ -31,9 +31,10 @@ struct GltfDraws {
 
 /// The draws of the nodes: triangle primitives (triangles, strips and fans) with POSITION; points
 /// and lines are skipped. Checks every accessor's type and range, and fails once the instanced
-/// vertices and triangles pass kMaxGlbElements, before any is read.
+/// vertices and triangles pass kMaxGlbElements, before any is read; fails with MeshOverLimit once
+/// they pass `maxTriangles` triangles (or kMaxVerticesPerTriangle vertices a triangle).
 GltfDraws gltfDraws(const tinygltf::Model& model, const std::vector<NodeInstance>& nodes,
-                    const MeshErrors& errors);
+                    const MeshErrors& errors, uint64_t maxTriangles = kMaxGlbElements);
 
 /// A draw's triangles under its node's transform and then `transform`: unit normals when the
 /// primitive has NORMAL (else flat), TEXCOORD_0 with `texcoords`. A node whose transform mirrors
@@ -45,6 +46,7 @@ TriangleMesh readDraw(const tinygltf::Model& model, const GltfDraw& draw,
 /// shape); an attribute one draw lacks is zero there (a zero normal is flat). Fails when nothing
 /// is drawn.
 TriangleMesh joinedMesh(const tinygltf::Model& model, const MeshTransform& transform,
-                        bool texcoords, const MeshErrors& errors);
+                        bool texcoords, const MeshErrors& errors,
+                        uint64_t maxTriangles = kMaxGlbElements);
 
 }  // namespace caustic

@@ -7,8 +7,9 @@
 namespace caustic {
 
 TriangleMesh parseGltf(std::string_view bytes, MeshFormat format, const MeshTransform& transform,
-                       bool texcoords, const MeshErrors& errors) {
-    return joinedMesh(loadGltfUpload(bytes, format, errors).model, transform, texcoords, errors);
+                       bool texcoords, const MeshErrors& errors, uint64_t maxTriangles) {
+    return joinedMesh(loadGltfUpload(bytes, format, errors).model, transform, texcoords, errors,
+                      maxTriangles);
 }
 
 }  // namespace caustic

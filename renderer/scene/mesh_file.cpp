@@ -87,7 +87,8 @@ TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
                             const MeshTransform& transform, const std::string& name,
                             const std::string& path, uint64_t maxTriangles, bool texcoords) {
     MeshErrors errors{name, path};
-    if (isGltfFormat(format)) return parseGltf(bytes, format, transform, texcoords, errors);
+    if (isGltfFormat(format))
+        return parseGltf(bytes, format, transform, texcoords, errors, maxTriangles);
     // The line pass names the line at fault; then the loader every scene file goes through.
     checkObjLines(bytes, errors, maxTriangles);
     ViewBuffer buffer(bytes);

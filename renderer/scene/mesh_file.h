@@ -39,9 +39,11 @@ inline bool isGltfFormat(MeshFormat format) {
 ///
 /// A .glb gives the meshes of every node of every scene (all root nodes when it has no scene),
 /// each under its node's world transform and then `transform`; materials are ignored. Nodes may
-/// instance one mesh many times, so the instanced total is bounded (kMaxGlbElements). An OBJ's
-/// triangles are counted by the line pass, before any is built: over `maxTriangles` it fails at
-/// the line that passes it (a service's limit holds before the loader spends memory on a file).
+/// instance one mesh many times, so the instanced total is bounded (kMaxGlbElements). Limits hold
+/// before memory is spent on a file (a service's limit on an upload): an OBJ's triangles and
+/// vertices are counted by the line pass, a .glb's as its nodes are walked; over `maxTriangles`
+/// triangles, or kMaxVerticesPerTriangle times that in vertices, it fails with MeshOverLimit at the
+/// line or node that passes it.
 /// Thread-safe.
 TriangleMesh parseMeshBytes(std::string_view bytes, MeshFormat format,
                             const MeshTransform& transform, const std::string& name,
@@ -58,6 +60,10 @@ public:
 /// The most vertices plus triangles a .glb may make once its nodes have instanced their meshes
 /// (about 400 MB of mesh): a file of a few kilobytes must not expand into gigabytes.
 inline constexpr uint64_t kMaxGlbElements = uint64_t(1) << 25;
+/// The most vertices (positions, normals or texture coordinates) a mesh file may have for each
+/// triangle of its limit: as many as its triangles' corners, all unshared. More could not all be
+/// used, and would only take memory.
+inline constexpr uint64_t kMaxVerticesPerTriangle = 3;
 /// The largest JSON chunk of a .glb read, and the most objects of one kind (nodes, meshes,
 /// accessors, ...) in it: tinygltf keeps each in a few hundred bytes.
 inline constexpr size_t kMaxGlbJsonBytes = size_t(16) << 20;

@@ -30,12 +30,13 @@ struct MeshErrors {
 /// defined above it; control bytes are binary data; a last line cut mid-statement is a truncated
 /// file. Lines end at "\n", "\r\n" or a lone "\r", as tinyobjloader reads them. Fails with "line N:
 /// ...", "the file is empty" or "has no faces (no triangles)". A face has at most
-/// kMaxObjFaceCorners corners, and the faces make at most `maxTriangles` triangles (n - 2 each).
+/// kMaxObjFaceCorners corners, and the faces make at most `maxTriangles` triangles (n - 2 each);
+/// vertices, normals and texture coordinates are each at most kMaxVerticesPerTriangle times that.
 void checkObjLines(std::string_view bytes, const MeshErrors& errors, uint64_t maxTriangles);
 
 /// Reads a glTF 2.0 binary (.glb) or a .zip of a .gltf from memory as one mesh; see
 /// parseMeshBytes.
 TriangleMesh parseGltf(std::string_view bytes, MeshFormat format, const MeshTransform& transform,
-                       bool texcoords, const MeshErrors& errors);
+                       bool texcoords, const MeshErrors& errors, uint64_t maxTriangles);
 
 }  // namespace caustic

@@ -86,10 +86,12 @@ public:
         if (f.empty()) return "";
         if (f[0] == "v") return vertex(f);
         if (f[0] == "f") return face(f);
+        if (f[0] == "vn") return attribute(normals_, "normals");
+        if (f[0] == "vt") return attribute(texcoords_, "texture coordinates");
         return "";
     }
     uint64_t faces() const { return faces_; }
-    bool overLimit() const { return triangles_ > maxTriangles_; }
+    bool overLimit() const { return triangles_ > maxTriangles_ || overVertices_; }
 
 private:
     std::string vertex(const std::vector<std::string_view>& f) {
@@ -97,8 +99,18 @@ private:
         if (f.size() < 4) return "a vertex needs 3 numbers, got " + std::to_string(f.size() - 1);
         for (size_t i = 1; i <= 3; ++i)
             if (std::string e = coordinateError(f[i]); !e.empty()) return "vertex " + e;
-        ++vertices_;
-        return "";
+        return attribute(vertices_, "vertices");
+    }
+
+    // Counts a "v", "vn" or "vt" line, held to kMaxVerticesPerTriangle a triangle of the limit:
+    // tinyobjloader keeps every one, used or not.
+    std::string attribute(uint64_t& count, const char* what) {
+        if (++count <= kMaxVerticesPerTriangle * maxTriangles_) return "";
+        overVertices_ = true;
+        return std::to_string(count) + " " + what + ", over the limit of " +
+               std::to_string(kMaxVerticesPerTriangle * maxTriangles_) + " (" +
+               std::to_string(kMaxVerticesPerTriangle) + " for each of the " +
+               std::to_string(maxTriangles_) + " triangles allowed)";
     }
 
     std::string face(const std::vector<std::string_view>& f) {
@@ -142,7 +154,8 @@ private:
     }
 
     uint64_t maxTriangles_;
-    uint64_t vertices_ = 0;
+    uint64_t vertices_ = 0, normals_ = 0, texcoords_ = 0;
+    bool overVertices_ = false;
     uint64_t faces_ = 0;
     uint64_t triangles_ = 0;
 };

@@ -68,10 +68,14 @@ void uploadAsset(ApiContext& api, const httplib::Request& req, httplib::Response
         dropBody(req, read);
         return sendUpload(res, *refusal);
     }
+    // The buffer grows as bytes arrive, doubling up to the declared length: a client that declares
+    // 256 MiB and sends nothing holds no memory for it.
+    const size_t declared = std::min(req.get_header_value<uint64_t>("Content-Length"),
+                                     uint64_t(api.config.limits.maxAssetBytes));
     std::string body;
-    body.reserve(std::min(req.get_header_value<uint64_t>("Content-Length"),
-                          uint64_t(api.config.limits.maxAssetBytes)));
-    read([&body](const char* data, size_t n) {
+    read([&body, declared](const char* data, size_t n) {
+        if (body.size() + n > body.capacity())
+            body.reserve(std::max(body.size() + n, std::min(2 * body.capacity(), declared)));
         body.append(data, n);
         return true;
     });

@@ -156,10 +156,11 @@ std::optional<Upload> AssetService::load(MeshFormat format, const std::string& n
             // Read once: its mesh is checked vertex by vertex, and the model must import as a
             // scene too (materials, images, extensions).
             const GltfFile file = loadGltfUpload(bytes, format, errors);
-            mesh = joinedMesh(file.model, MeshTransform{}, false, errors);
+            mesh = joinedMesh(file.model, MeshTransform{}, false, errors, uint64_t(maxTriangles));
             model = modelSummary(file, errors);
         } else {
-            // An OBJ's triangles are counted before they are built: the limit bounds the memory.
+            // An OBJ's triangles and vertices are counted before they are built, a .glb's as its
+            // nodes instance its meshes: the limit bounds the memory.
             mesh =
                 parseMeshBytes(bytes, format, MeshTransform{}, label, path, uint64_t(maxTriangles));
         }

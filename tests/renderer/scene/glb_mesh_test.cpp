@@ -333,6 +333,22 @@ TEST(MeshFileGlb, InstancesAreBoundedBeforeAnyIsRead) {
                      "together, the most a glTF file may make");
 }
 
+TEST(MeshFileGlb, TheCallersTriangleLimitHoldsAsNodesAreCounted) {
+    // Two nodes of two triangles each: a limit of 3 stops at the second node, before any is read,
+    // as a MeshOverLimit (a service's limit, not a malformed file).
+    const std::string bytes = squareGlb().bytes();
+    EXPECT_EQ(parseMeshBytes(bytes, MeshFormat::Glb, {}, "m.glb", kMeshPath, 4).triangles.size(),
+              4u);
+    try {
+        parseMeshBytes(bytes, MeshFormat::Glb, {}, "m.glb", kMeshPath, 3);
+        ADD_FAILURE() << "loaded past its triangle limit";
+    } catch (const MeshOverLimit& e) {
+        EXPECT_EQ(e.message(),
+                  "m.glb: node 1: the nodes' meshes make 4 triangles and 8 vertices "
+                  "so far, over the limit of 3 triangles (and 3 vertices each)");
+    }
+}
+
 TEST(MeshFileGlb, TheJsonChunkIsBounded) {
     // tinygltf keeps a node in a few hundred bytes: "{}," must not become 10 GB.
     GlbModel m = squareGlb();

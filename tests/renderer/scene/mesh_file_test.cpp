@@ -195,6 +195,24 @@ TEST(MeshFileObj, TrianglesOverTheLimitStopTheLinePass) {
     }
 }
 
+TEST(MeshFileObj, VerticesOverThreeATriangleOfTheLimitStopTheLinePass) {
+    // tinyobjloader keeps every vertex, used or not: a file of one face and millions of "v" lines
+    // would take their memory within its triangle limit.
+    std::string text = kTriangle + "vn 0 0 1\nvn 0 0 1\nvt 0 0\nf 1 2 3\n";
+    EXPECT_EQ(parseMeshBytes(text, MeshFormat::Obj, {}, "", kMeshPath, 1).triangles.size(), 1u);
+    try {
+        parseMeshBytes("v 0 0 0\n" + text, MeshFormat::Obj, {}, "", kMeshPath, 1);
+        ADD_FAILURE() << "loaded 4 vertices for a limit of 1 triangle";
+    } catch (const MeshOverLimit& e) {
+        EXPECT_EQ(
+            e.message(),
+            "line 4: 4 vertices, over the limit of 3 (3 for each of the 1 triangles allowed)");
+    }
+    EXPECT_THROW(
+        parseMeshBytes(text + "vt 0 0\nvt 0 0\nvt 0 0\n", MeshFormat::Obj, {}, "", kMeshPath, 1),
+        MeshOverLimit);
+}
+
 TEST(MeshFileObj, NoNameMeansTheMessageAlone) {
     try {
         parseMeshBytes("", MeshFormat::Obj, {}, "", kMeshPath);
