@@ -6,9 +6,13 @@
 # STAGING: installing the same libraries as packages would also install what those packages
 # depend on but the binary never loads (OpenImageIO's package brings Mesa with LLVM, GDAL and PROJ
 # data: over 400 MB).
-# usage: stage-libs.sh BINARY STAGING
+# A library no package owns is copied only from a PREFIX given (docker/oiio-from-wheel.sh's
+# OpenImageIO), with PREFIX/share/doc and the versions its pkg-config files name.
+# usage: stage-libs.sh BINARY STAGING [PREFIX...]
 set -euo pipefail
 binary=$1 staging=$2
+shift 2
+prefixes=("$@")
 
 if ldd "$binary" | grep "not found"; then
     echo "stage-libs: $binary needs libraries this machine does not have" >&2
@@ -25,8 +29,23 @@ ldd "$binary" | awk '$2 == "=>" && $3 ~ /^\// { print $3 }' | sort -u | while re
         dpkg -S "$(readlink -f "$lib")" 2>/dev/null || true)
     package=${owner%%:*}
     if [ -z "$package" ]; then
+        for prefix in "${prefixes[@]}"; do
+            case "$path" in "$prefix"/*) package=prefix:$prefix ;; esac
+        done
+    fi
+    if [ -z "$package" ]; then
         echo "stage-libs: no package owns $lib" >&2
         exit 1
+    fi
+    if [ "${package%%:*}" = prefix ]; then
+        prefix=${package#prefix:}
+        install -D -m 644 "$(readlink -f "$lib")" "$staging$path"
+        mkdir -p "$staging$prefix/share"
+        cp -a "$prefix/share/doc" "$staging$prefix/share/"
+        for pc in "$prefix"/lib/pkgconfig/*.pc; do
+            sed -n "s/^Name: //p; s/^Version: /=/p" "$pc" | paste -sd '' >>"$manifest"
+        done
+        continue
     fi
     [ "$(dpkg-query -W -f '${Priority}' "$package")" = required ] && continue
     install -D -m 644 "$(readlink -f "$lib")" "$staging$path"

@@ -2,16 +2,19 @@
 # Installs the Debian 12 packages Caustic needs to build, test and benchmark.
 # Idempotent: packages already present are skipped by apt. Runs as root (CI, a container build) or
 # through sudo.
-# usage: install-deps.sh [--build-only]
-#   --build-only  only what building the `caustic` binary needs: no tests, benchmarks, browser,
-#                 sanitizers, containers or PostgreSQL server (docker/Dockerfile's builder stage)
+# usage: install-deps.sh [--build-only|--image-build]
+#   --build-only   only what building the `caustic` binary needs: no tests, benchmarks, browser,
+#                  sanitizers, containers or PostgreSQL server
+#   --image-build  as --build-only, but OpenImageIO comes from docker/oiio-from-wheel.sh (what it
+#                  needs to fetch and use it instead of Debian's; docker/Dockerfile's builder stage)
 set -euo pipefail
 
-build_only=false
+build_only=false image_build=false
 case "${1:-}" in
     "") ;;
     --build-only) build_only=true ;;
-    *) echo "usage: $0 [--build-only]" >&2; exit 2 ;;
+    --image-build) build_only=true image_build=true ;;
+    *) echo "usage: $0 [--build-only|--image-build]" >&2; exit 2 ;;
 esac
 
 packages=(
@@ -20,12 +23,18 @@ packages=(
     # Command lines (caustic, the benchmarks)
     libcli11-dev
     # Renderer
-    libglm-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libopenimageio-dev
+    libglm-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev
     libembree-dev libdraco-dev libzip-dev libzstd-dev libmeshoptimizer-dev
     # Render service (libssl-dev: SHA-256 asset ids and TLS; libspdlog-dev: the access log and
     # messages; libpqxx-dev: PostgreSQL's C++ client, for the scale-out store)
     libcpp-httplib-dev libsqlite3-dev libssl-dev libspdlog-dev libpqxx-dev
 )
+if $image_build; then
+    # OpenImageIO's headers use Imath and fmt; its release is fetched over HTTPS with Python.
+    packages+=(libimath-dev libfmt-dev zlib1g-dev python3 ca-certificates)
+else
+    packages+=(libopenimageio-dev)
+fi
 if ! $build_only; then
     packages+=(
         git openimageio-tools

@@ -38,8 +38,14 @@ fs::path defaultDirectory() {
 
 TextureStore::TextureStore(const Options& options) : options_(options) {
     if (options_.directory.empty()) options_.directory = defaultDirectory();
-    // A store of its own, not OIIO's process-wide one: its cache bound is this store's alone.
+        // A store of its own, not OIIO's process-wide one: its cache bound is this store's alone.
+        // OpenImageIO 3 hands out a shared_ptr; 2.x a pointer to give back to destroy().
+#if OIIO_VERSION_MAJOR >= 3
     system_ = OIIO::TextureSystem::create(/*shared=*/false);
+#else
+    system_.reset(OIIO::TextureSystem::create(/*shared=*/false),
+                  [](OIIO::TextureSystem* system) { OIIO::TextureSystem::destroy(system); });
+#endif
     const float megabytes = float(double(options_.cacheBytes) / double(1 << 20));
     system_->attribute("max_memory_MB", std::max(megabytes, 1.0f));
     // Prepared textures are tiled and carry their MIP levels: nothing is made on the fly.
@@ -47,9 +53,7 @@ TextureStore::TextureStore(const Options& options) : options_(options) {
     system_->attribute("automip", 0);
 }
 
-TextureStore::~TextureStore() {
-    OIIO::TextureSystem::destroy(system_);
-}
+TextureStore::~TextureStore() = default;
 
 const TextureStore::Image& TextureStore::addFile(const fs::path& file, TextureEncoding encoding,
                                                  const std::string& path) {

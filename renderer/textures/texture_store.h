@@ -100,7 +100,7 @@ private:
                         const std::string& path, const std::string& key, Image& image) const;
 
     Options options_;
-    OIIO::TextureSystem* system_ = nullptr;
+    std::shared_ptr<OIIO::TextureSystem> system_;
     mutable std::mutex mutex_;
     std::vector<std::unique_ptr<Image>> images_;  // stable addresses
 };

@@ -56,7 +56,10 @@ fi
 
 start=$(date +%s)
 # --format docker: the OCI format has no HEALTHCHECK.
+# The machine's CA bundle: the builder fetches OpenImageIO over HTTPS, through this machine's
+# proxy when it has one.
 podman build --pull=never --network host --format docker -f "$repo/docker/Dockerfile" \
+    --secret id=ca_bundle,src=/etc/ssl/certs/ca-certificates.crt \
     -t caustic:latest "$repo" >"$work/build.log" 2>&1 ||
     { tail -n 40 "$work/build.log" >&2; exit 1; }
 step "built caustic:latest from docker/Dockerfile" "$start"
