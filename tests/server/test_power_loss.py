@@ -15,7 +15,8 @@ import pytest
 
 from conftest import Server, submit_ok
 
-CALL = re.compile(r"^(\d+) (\w+)\((.*)\)\s+= (-?\d+)")
+# strace -f pads the thread id to a width ("9802  openat(..."): any run of spaces after it.
+CALL = re.compile(r"^(\d+)\s+(\w+)\((.*)\)\s+= (-?\d+)")
 
 
 def traced_server(caustic_bin, workdir, trace):
@@ -32,11 +33,11 @@ def calls(trace):
     with open(trace, encoding="utf-8", errors="replace") as f:
         for line in f:
             line = line.rstrip("\n")
-            m = re.match(r"^(\d+) (.*) <unfinished \.\.\.>$", line)
+            m = re.match(r"^(\d+)\s+(.*) <unfinished \.\.\.>$", line)
             if m:
                 pending[m.group(1)] = m.group(2)
                 continue
-            m = re.match(r"^(\d+) <\.\.\. \w+ resumed>(.*)$", line)
+            m = re.match(r"^(\d+)\s+<\.\.\. \w+ resumed>(.*)$", line)
             if m:
                 line = f"{m.group(1)} {pending.pop(m.group(1), '')}{m.group(2)}"
             m = CALL.match(line)
