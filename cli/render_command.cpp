@@ -123,11 +123,12 @@ int runRender(const RenderOptions& options) {
 
     if (!options.quiet) {
         const RenderStats& s = result.stats;
-        char error[64] = "n/a (one pass)";
-        const bool biased = errorExcludesBias(settings.integrator, settings.path.photonMapped());
-        if (std::isfinite(s.relativeError))
-            std::snprintf(error, sizeof error, "%.3g%%%s", 100.0 * s.relativeError,
-                          biased ? " (noise only: excludes the bias)" : "");
+        char error[96] = "n/a (one pass)";
+        if (std::isfinite(s.relativeError) && result.film->tracksBias())
+            std::snprintf(error, sizeof error, "%.3g%% (noise %.3g%%, bias %.3g%%)",
+                          100.0 * s.relativeError, 100.0 * s.relativeNoise, 100.0 * s.relativeBias);
+        else if (std::isfinite(s.relativeError))
+            std::snprintf(error, sizeof error, "%.3g%%", 100.0 * s.relativeError);
         std::string outs;
         for (const std::string& out : options.outputs) outs += (outs.empty() ? "" : ", ") + out;
         std::fprintf(stderr,

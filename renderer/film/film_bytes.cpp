@@ -33,8 +33,10 @@ struct Header {
     int32_t width, height;
     uint64_t dropped, clamped;
     uint32_t ranges;
-    uint32_t reserved;
+    uint32_t flags;  // kBiasLayer; 0 in films written before the bias layer
 };
+
+constexpr uint32_t kBiasLayer = 1;  // the film has the bias layer: twice the accumulators
 
 template <typename T>
 void append(std::string& out, const T* data, size_t count) {
@@ -132,6 +134,7 @@ std::string Film::toBytes() const {
     h.dropped = dropped_;
     h.clamped = clamped_;
     h.ranges = uint32_t(passSet_.ranges().size());
+    h.flags = tracksBias() ? kBiasLayer : 0;
     std::string out;
     append(out, &h, 1);
     for (const PassSet::Range& r : passSet_.ranges()) {
@@ -166,11 +169,11 @@ std::unique_ptr<Film> Film::fromBytes(std::string_view bytes, int width, int hei
     Header h{};
     size_t at = 0;
     if (!take(bytes, at, &h, 1) || h.width != width || h.height != height ||
-        h.ranges > uint32_t(exact::kMaxPasses))
+        h.ranges > uint32_t(exact::kMaxPasses) || (h.flags & ~kBiasLayer) != 0)
         return nullptr;
     const bool raw = std::memcmp(h.magic, kMagicRaw, sizeof kMagicRaw) == 0;
     if (!raw && std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) return nullptr;
-    auto film = std::make_unique<Film>(width, height);
+    auto film = std::make_unique<Film>(width, height, (h.flags & kBiasLayer) != 0);
     // Ranges as this code writes them: sorted, apart, not empty, below kMaxPasses.
     int32_t previousEnd = -1;
     for (uint32_t i = 0; i < h.ranges; ++i) {

@@ -34,6 +34,10 @@ struct SampleContext {
     /// share of a pixel their lookups filter over (the render's 1 / sqrt(spp), as pbrt-v4).
     MaterialScratch scratch[2];
     float footprintScale = 1.0f;
+    /// Whether the render keeps each sample's bias (Integrator::estimatesBias); Li adds to
+    /// `bias` the bias of its estimate as it estimates it, in the units of its result.
+    bool trackBias = false;
+    Color bias = Color(0.0f);
 
     bool interrupted() { return interrupt.poll(); }
 };
@@ -51,6 +55,9 @@ public:
     /// One sample of the radiance arriving at the camera along `ray` (world space, unit direction),
     /// in W/(m^2 sr) per linear RGB channel. Thread-safe.
     virtual Color Li(const Ray& ray, SampleContext& ctx) const = 0;
+    /// Whether Li estimates its own bias (SampleContext::bias): the photon maps' density
+    /// estimates, whose bias the error estimate then includes (film/film.h, the bias layer).
+    virtual bool estimatesBias() const { return false; }
     /// Bytes of the integrator's own structures (photon maps); zero for those that keep none.
     virtual size_t memoryBytes() const { return 0; }
     /// Throws InputError naming the setting at fault when the integrator's own structures would

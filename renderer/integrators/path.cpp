@@ -114,7 +114,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
             // taken to weigh it against), the map the rest.
             if (settings_.lightSampling) L += beta * sampleDirectLight(si, wo, m, ctx, false);
             if (depth + 2 <= maxDepth_)
-                L += beta * indirect_->reflected(si, wo, m, maxDepth_ - depth - 1);
+                L += mapped(*indirect_, si, wo, m, maxDepth_ - depth - 1, beta, ctx);
             break;
         }
         if (settings_.lightSampling) L += beta * sampleDirectLight(si, wo, m, ctx, settings_.mis);
@@ -122,7 +122,7 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
             // A photon that landed after j >= 1 bounces makes a path of depth + 1 + j scattering
             // events, at most max_depth.
             if (depth + 2 <= maxDepth_)
-                L += beta * caustics_->reflected(si, wo, m, maxDepth_ - depth - 1);
+                L += mapped(*caustics_, si, wo, m, maxDepth_ - depth - 1, beta, ctx);
             mappedCaustics = true;
         }
         pastDiffuse = pastDiffuse || !m.isSpecular();
@@ -150,6 +150,15 @@ Color PathIntegrator::Li(const Ray& cameraRay, SampleContext& ctx) const {
         }
     }
     return L;
+}
+
+Color PathIntegrator::mapped(const ProgressivePhotonMap& map, const SurfaceInteraction& si,
+                             const Vec3& wo, const Material& m, int maxBounces, const Color& beta,
+                             SampleContext& ctx) const {
+    Color bias(0.0f);
+    const Color L = map.reflected(si, wo, m, maxBounces, ctx.trackBias ? &bias : nullptr);
+    ctx.bias += beta * bias;
+    return beta * L;
 }
 
 }  // namespace caustic

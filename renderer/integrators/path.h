@@ -55,8 +55,13 @@ public:
                (indirect_ ? indirect_->memoryBytes() : 0);
     }
     void checkMemory(size_t budgetBytes) const override;
+    bool estimatesBias() const override { return caustics_ || indirect_; }
 
 private:
+    /// beta times a map's reading at si; with ctx.trackBias, beta times its bias is added to
+    /// ctx.bias.
+    Color mapped(const ProgressivePhotonMap& map, const SurfaceInteraction& si, const Vec3& wo,
+                 const Material& m, int maxBounces, const Color& beta, SampleContext& ctx) const;
     /// The weight of emission Le found by a BSDF-sampled ray from `from` (density bsdfPdf) that
     /// hit emitter `at`.
     float emissionWeight(const LightSampleContext& from, float bsdfPdf,

@@ -112,7 +112,8 @@ std::optional<SurfaceInteraction> PhotonIntegrator::firstDiffuseHit(Ray& ray, Co
 }
 
 Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, const Material& m,
-                               SampleContext& ctx, std::vector<Neighbor>& scratch) const {
+                               SampleContext& ctx, std::vector<Neighbor>& scratch,
+                               Color& bias) const {
     Color sum(0.0f);
     for (int g = 0; g < settings_.finalGather; ++g) {
         float uc = ctx.sampler.uniform();
@@ -126,8 +127,12 @@ Color PhotonIntegrator::gather(const SurfaceInteraction& x, const Vec3& wo, cons
         // Emitters seen by gather rays are direct light or caustics at x: counted already.
         if (!y) continue;
         const Material& my = shade(*y, ctx, 1);
-        sum += beta * global_->reflected(*y, -ray.d, my, passEstimate_, kAllPhotonPaths, scratch);
+        Color b(0.0f);
+        sum += beta * global_->reflected(*y, -ray.d, my, passEstimate_, kAllPhotonPaths, scratch,
+                                         ctx.trackBias ? &b : nullptr);
+        bias += beta * b;
     }
+    bias /= float(settings_.finalGather);
     return sum / float(settings_.finalGather);
 }
 
@@ -144,11 +149,17 @@ Color PhotonIntegrator::Li(const Ray& ray, SampleContext& ctx) const {
     thread_local std::vector<Neighbor> scratch;
     Color L = sampleDirectLight(*x, wo, m, ctx);
     if (bounces > 0 || ctx.cameraEmission) L += m.Le(wo, x->n);
-    L += caustic_->reflected(*x, wo, m, passEstimate_, kAllPhotonPaths, scratch);
+    // The bias of both maps' estimates, when the render tracks it.
+    Color* const track = ctx.trackBias ? &ctx.bias : nullptr;
+    Color bias(0.0f), b(0.0f);
+    L += caustic_->reflected(*x, wo, m, passEstimate_, kAllPhotonPaths, scratch,
+                             track ? &b : nullptr);
     if (settings_.finalGather > 0)
-        L += gather(*x, wo, m, ctx, scratch);
+        L += gather(*x, wo, m, ctx, scratch, bias);
     else
-        L += global_->reflected(*x, wo, m, passEstimate_, maskOf(PhotonPath::Indirect), scratch);
+        L += global_->reflected(*x, wo, m, passEstimate_, maskOf(PhotonPath::Indirect), scratch,
+                                track ? &bias : nullptr);
+    if (track) *track += beta * (b + bias);
     return beta * L;
 }
 

@@ -50,6 +50,8 @@ public:
 
     uint64_t beginPass(uint32_t pass) override;
     Color Li(const Ray& ray, SampleContext& ctx) const override;
+    /// Every estimate it makes is a density estimate: it tracks their bias.
+    bool estimatesBias() const override { return true; }
     size_t memoryBytes() const override;
     void checkMemory(size_t budgetBytes) const override;
 
@@ -72,8 +74,9 @@ private:
     std::optional<SurfaceInteraction> firstDiffuseHit(Ray& ray, Color& beta, bool& escaped,
                                                       SampleContext& ctx,
                                                       int* bounces = nullptr) const;
+    /// The final gather's estimate at x; `bias` becomes its bias (with ctx.trackBias).
     Color gather(const SurfaceInteraction& x, const Vec3& wo, const Material& m, SampleContext& ctx,
-                 std::vector<Neighbor>& scratch) const;
+                 std::vector<Neighbor>& scratch, Color& bias) const;
 
     TraceSettings trace_;
     Settings settings_;

@@ -79,7 +79,8 @@ PhotonMap::PhotonMap(std::vector<Photon> photons, PhotonLookup lookup)
 
 Color PhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
                            const PhotonEstimate& estimate, PhotonPathMask mask,
-                           std::vector<Neighbor>& scratch) const {
+                           std::vector<Neighbor>& scratch, Color* bias) const {
+    if (bias) *bias = Color(0.0f);
     if (photons_.empty()) return Color(0.0f);
     float r2 = estimate.radius * estimate.radius;
     if (estimate.radius > 0.0f) {
@@ -96,20 +97,31 @@ Color PhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo, const M
     const SurfaceBsdf bsdf(m, si);
     const Vec3& ns = bsdf.shadingNormal();
     const float side = glm::dot(wo, ns);
-    Color L(0.0f);
+    // The estimate at radius r, and (for the bias) at the smaller radius s r.
+    const float small2 = kBiasRadiusScale2 * r2;
+    Color L(0.0f), Lsmall(0.0f);
     for (const Neighbor& n : scratch) {
         const Photon& p = photons_[n.id];
         if (!(mask & maskOf(p.path)) || p.bounces > estimate.maxBounces) continue;
-        const float w = kernel(estimate.kernel, n.dist2, r2);
         // A photon that landed on the other side of a thin surface reaches this side only by
         // transmission, whatever a shading normal says.
         if (!bsdf.agreesWithGeometry(wo, p.wi)) continue;
+        Color flux;
         if (!lambertian)
-            L += bsdf.f(wo, p.wi) * p.power * w;
+            flux = bsdf.f(wo, p.wi) * p.power;
         else if (side * glm::dot(p.wi, ns) > 0.0f)
-            L += p.power * w;
+            flux = p.power;
+        else
+            continue;
+        L += flux * kernel(estimate.kernel, n.dist2, r2);
+        if (bias && n.dist2 < small2) Lsmall += flux * kernel(estimate.kernel, n.dist2, small2);
     }
-    return lambertian ? *lambertian * L : L;
+    if (lambertian) {
+        L *= *lambertian;
+        Lsmall *= *lambertian;
+    }
+    if (bias) *bias = (L - Lsmall) / (1.0f - kBiasRadiusScale2);
+    return L;
 }
 
 }  // namespace caustic

@@ -25,6 +25,14 @@ struct PhotonEstimate {
     int maxBounces = 255;
 };
 
+/// The bias of a density estimate at radius r, from the same photons read at a radius s r as
+/// well (s^2 = kBiasRadiusScale2): where the photon density is smooth, a kernel estimate's bias
+/// grows as r^2 (Silverman 1986, 3.3.1: b(r) = r^2 k2 / 2 times the density's Laplacian, k2 the
+/// kernel's second moment; the reason progressive photon mapping shrinks its radius, Hachisuka et
+/// al. 2008), so L(r) - L(s r) estimates b(r) (1 - s^2). The smaller disk holds half the photons:
+/// the difference is noisy, and a caller averages it over the passes like the image.
+inline constexpr float kBiasRadiusScale2 = 0.5f;
+
 /// Which photon paths an estimate counts (a bit per PhotonPath).
 using PhotonPathMask = unsigned;
 constexpr PhotonPathMask maskOf(PhotonPath p) {
@@ -43,9 +51,10 @@ public:
     /// Radiance reflected towards wo at si by material m from the photons around si.p whose path
     /// is in `mask`. The radius is that of the k nearest of all photons (or the fixed one), so the
     /// mask selects a component of one density estimate. `scratch` is reused between calls.
+    /// With `bias`, also the estimate's bias there (see kBiasRadiusScale2).
     Color reflected(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
                     const PhotonEstimate& estimate, PhotonPathMask mask,
-                    std::vector<Neighbor>& scratch) const;
+                    std::vector<Neighbor>& scratch, Color* bias = nullptr) const;
 
     size_t size() const { return photons_.size(); }
     /// 40 bytes a photon plus 16 in the tree (12 in the brute-force index).

@@ -35,11 +35,11 @@ uint64_t ProgressivePhotonMap::beginPass(uint32_t pass, const Interrupt* interru
 }
 
 Color ProgressivePhotonMap::reflected(const SurfaceInteraction& si, const Vec3& wo,
-                                      const Material& m, int maxBounces) const {
+                                      const Material& m, int maxBounces, Color* bias) const {
     thread_local std::vector<Neighbor> scratch;
     PhotonEstimate estimate = pass_;
     estimate.maxBounces = std::min(maxBounces, 255);
-    return map_->reflected(si, wo, m, estimate, kAllPhotonPaths, scratch);
+    return map_->reflected(si, wo, m, estimate, kAllPhotonPaths, scratch, bias);
 }
 
 size_t ProgressivePhotonMap::peakBytes(const Interrupt* interrupt) const {

@@ -48,9 +48,10 @@ public:
     /// asks to stop it returns early, and the pass must be abandoned.
     uint64_t beginPass(uint32_t pass, const Interrupt* interrupt);
     /// Radiance reflected towards wo at si by material m from the map's photons that landed after
-    /// at most `maxBounces` scattering events.
-    Color reflected(const SurfaceInteraction& si, const Vec3& wo, const Material& m,
-                    int maxBounces) const;
+    /// at most `maxBounces` scattering events; with `bias`, the estimate's bias too
+    /// (PhotonMap::reflected).
+    Color reflected(const SurfaceInteraction& si, const Vec3& wo, const Material& m, int maxBounces,
+                    Color* bias = nullptr) const;
 
     size_t memoryBytes() const { return map_ ? map_->memoryBytes() : 0; }
     /// Peak bytes of a pass's tracing and map, estimated from a pilot tracing of at most

@@ -34,10 +34,11 @@ const IntegratorTraits* findIntegrator(const std::string& name);
 /// The integrator names `createIntegrator` accepts.
 const std::vector<std::string>& integratorNames();
 
-/// Whether the error estimated from the pass variance misses part of the integrator's error: the
-/// photon mappers' bias, which every pass shares (photon) or which shrinks pass by pass (ppm, and
-/// path with photon-mapped caustics or indirect light); docs/study/README.md measures it.
-inline bool errorExcludesBias(const std::string& integrator, bool pathPhotonMaps) {
+/// Whether the integrator estimates the bias of its photon maps (Integrator::estimatesBias): the
+/// photon mappers, whose bias every pass shares (photon) or shrinks pass by pass (ppm), and path
+/// with photon-mapped caustics or indirect light. Their films have the bias layer and their error
+/// estimate adds the bias to the noise (film/film.h).
+inline bool estimatesBias(const std::string& integrator, bool pathPhotonMaps) {
     const IntegratorTraits* t = findIntegrator(integrator);
     return t && (t->ownsPhotonMaps || (t->photonMapsBySetting && pathPhotonMaps));
 }

@@ -140,10 +140,11 @@ size_t photonPeakBytes(const Scene& scene, const RenderSettings& settings, const
 
 }  // namespace
 
-size_t filmBytes(int width, int height, bool adaptive) {
+size_t filmBytes(int width, int height, bool adaptive, bool bias) {
     const size_t pixels = size_t(width) * size_t(height);
-    const size_t film = Film::bytesFor(width, height) + pixels * sizeof(Color);
-    return adaptive ? film + Film::bytesFor(width, height) + pixels * sizeof(uint16_t) : film;
+    const size_t film =
+        Film::bytesFor(width, height, bias) + pixels * sizeof(Color) * (bias ? 2 : 1);
+    return adaptive ? film + Film::bytesFor(width, height, bias) + pixels * sizeof(uint16_t) : film;
 }
 
 // Photon tracing stores a photon at each non-specular hit, at most one per bounce: at most
@@ -165,7 +166,8 @@ MemoryEstimate estimateMemory(const Scene& scene, const RenderSettings& settings
     MemoryEstimate e;
     e.geometry = geometryBytes(scene, c);
     e.accelerator = acceleratorBytes(settings.accelerator, c);
-    e.film = filmBytes(scene.camera.width(), scene.camera.height(), settings.adaptive);
+    e.film = filmBytes(scene.camera.width(), scene.camera.height(), settings.adaptive,
+                       estimatesBias(settings.integrator, settings.path.photonMapped()));
     e.lightTables = lightTableBytes(c) + scene.environmentBytes;
     e.photonMaps = photonPeakBytes(scene, settings, c);
     e.textures = scene.textureBytes;

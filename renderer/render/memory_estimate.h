@@ -27,8 +27,9 @@ struct MemoryEstimate {
 /// Bytes of a width x height film as render() counts them before its first pass: per pixel, the
 /// sum and sum of squares of the pass estimates in double and the pass buffer in float; with
 /// adaptive sampling also the sample map and the film of the pilot, which a range that starts past
-/// the pilot renders again (render/sample_map.h).
-size_t filmBytes(int width, int height, bool adaptive = false);
+/// the pilot renders again (render/sample_map.h). With `bias` (an integrator that estimates its
+/// bias), the films' bias layer and the pass buffer's bias half.
+size_t filmBytes(int width, int height, bool adaptive = false, bool bias = false);
 
 /// Most photons one photon path stores, in expectation, in a scene (see .cpp for the argument):
 /// min(max_depth, 1 / (1 - rho)) with rho the largest scattering weight of a non-specular material;

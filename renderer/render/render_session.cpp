@@ -38,6 +38,8 @@ struct TileRenderer {
     uint32_t pass;
     const std::vector<uint16_t>* sampleMap;  ///< Samples per pixel; null for sppPerPass each.
     const SeenEmission* seen;                ///< Null: each sample's own ray sees emission.
+    /// The pass: width x height pixels, then as many of their bias when the integrator estimates
+    /// it (Film's bias layer).
     std::vector<Color>& out;
 
     // The emission seen directly through pixel (x, y), from the sample's own points.
@@ -72,10 +74,12 @@ struct TileRenderer {
         ctx.interrupt = InterruptPoller(&interrupt);
         ctx.cameraEmission = seen == nullptr;
         ctx.footprintScale = footprintScale(double(settings.spp));
+        ctx.trackBias = integrator.estimatesBias();
+        const size_t pixels = size_t(camera.width()) * size_t(camera.height());
         for (int y = ty; y < y1; ++y) {
             for (int x = tx; x < x1; ++x) {
                 uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
-                DVec3 sum(0.0);  // double: many large finite samples must not overflow
+                DVec3 sum(0.0), biasSum(0.0);  // double: large finite samples must not overflow
                 int valid = 0;
                 const int samples = sampleMap ? (*sampleMap)[pixel] : sppPerPass;
                 const uint32_t before = samplesBefore(samples);
@@ -86,17 +90,21 @@ struct TileRenderer {
                                                      uint32_t(s), uint32_t(samples), before);
                     Vec2 jitter = ctx.sampler.uniform2();
                     Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
+                    ctx.bias = Color(0.0f);
                     Color L = integrator.Li(ray, ctx);
                     if (seenHere) L += seenEmission(ctx.sampler, x, y, ctx.rays);
                     // A non-finite sample is a bug or an overflow; keep it out of the image.
-                    if (!isFinite(L)) {
+                    if (!isFinite(L) || !isFinite(ctx.bias)) {
                         ++dropped;
                         continue;
                     }
                     sum += DVec3(L);
+                    biasSum += DVec3(ctx.bias);
                     ++valid;
                 }
                 out[pixel] = valid > 0 ? Color(sum / double(valid)) : Color(0.0f);
+                if (ctx.trackBias)
+                    out[pixels + pixel] = valid > 0 ? Color(biasSum / double(valid)) : Color(0.0f);
             }
         }
         rays += ctx.rays;
@@ -124,12 +132,15 @@ RenderSession::RenderSession(const Scene& scene, const RenderSettings& settings,
     checkMemory();
     integrator_->setInterrupt(nullptr);
     if (interrupt && interrupt->requested()) throw RenderCancelled();
-    passImage_.resize(size_t(scene_.camera.width()) * size_t(scene_.camera.height()));
+    // The image, then (with the bias layer) its bias.
+    passImage_.resize(size_t(scene_.camera.width()) * size_t(scene_.camera.height()) *
+                      (integrator_->estimatesBias() ? 2 : 1));
     integratorSeconds_ = secondsSince(t1);
 }
 
 std::unique_ptr<Film> RenderSession::makeFilm() const {
-    return std::make_unique<Film>(scene_.camera.width(), scene_.camera.height());
+    return std::make_unique<Film>(scene_.camera.width(), scene_.camera.height(),
+                                  integrator_->estimatesBias());
 }
 
 // Refuses a render that would not fit in settings.memory_limit, before its first pass: what is
@@ -137,7 +148,7 @@ std::unique_ptr<Film> RenderSession::makeFilm() const {
 void RenderSession::checkMemory() const {
     const size_t limit = settings_.memoryLimitBytes();
     const int width = scene_.camera.width(), height = scene_.camera.height();
-    const size_t film = filmBytes(width, height, settings_.adaptive);
+    const size_t film = filmBytes(width, height, settings_.adaptive, integrator_->estimatesBias());
     const size_t built = scene_.geometry.memoryBytes() + accel_->memoryBytes() + film +
                          scene_.lightTableBytes() + scene_.textureBytes;
     if (built > limit)
@@ -279,7 +290,7 @@ bool RenderSession::prepareSampleMap(const Film& film, const Interrupt& interrup
     }
     // This range starts past the pilot (another worker's, or a resumed render's): render the pilot
     // again. Deterministic, so this map is the one every other range has.
-    Film pilot(film.width(), film.height());
+    Film pilot(film.width(), film.height(), film.tracksBias());
     for (int p = 0; p < kAdaptivePilotPasses; ++p) {
         rays += integrator_->beginPass(uint32_t(p));
         uint64_t dropped = 0;

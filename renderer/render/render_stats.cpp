@@ -25,6 +25,8 @@ nlohmann::json RenderStats::toJson() const {
             {"passes", passes},
             {"spp", sppReached},
             {"relative_error", number(relativeError)},
+            {"relative_noise", number(relativeNoise)},
+            {"relative_bias", number(relativeBias)},
             {"dropped_samples", droppedSamples},
             {"clamped_values", clampedValues},
             {"threads", threads},

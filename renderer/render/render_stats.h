@@ -44,7 +44,9 @@ struct RenderStats {
     double raysPerSecond = 0;  ///< rays / renderSeconds.
     int passes = 0;
     int sppReached = 0;
-    double relativeError = 0;     ///< Film::relativeError(); NaN with fewer than 2 passes.
+    double relativeError = 0;  ///< Film::relativeError(); NaN with fewer than 2 passes.
+    /// Its parts (Film::relativeNoise, relativeBias): the bias is 0 for an unbiased integrator.
+    double relativeNoise = 0, relativeBias = 0;
     uint64_t droppedSamples = 0;  ///< NaN or infinite samples left out.
     uint64_t clampedValues = 0;   ///< Pass values beyond the film's range (Film::clampedValues).
     int threads = 0;

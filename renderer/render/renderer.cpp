@@ -36,6 +36,8 @@ RenderStats renderPasses(RenderSession& session, Film& film, const RenderCallbac
     stats.samples = uint64_t(stats.sppReached) * uint64_t(camera.width()) * camera.height();
     stats.raysPerSecond = stats.renderSeconds > 0 ? double(stats.rays) / stats.renderSeconds : 0;
     stats.relativeError = film.relativeError();
+    stats.relativeNoise = film.relativeNoise();
+    stats.relativeBias = film.relativeBias();
     stats.droppedSamples = film.droppedSamples();
     stats.clampedValues = film.clampedValues();
     stats.memory = session.memory(film);

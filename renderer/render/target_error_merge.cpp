@@ -7,8 +7,8 @@
 
 namespace caustic {
 
-TargetErrorMerge::TargetErrorMerge(int width, int height, double targetError)
-    : film_(width, height), targetError_(targetError) {}
+TargetErrorMerge::TargetErrorMerge(int width, int height, double targetError, bool bias)
+    : film_(width, height, bias), targetError_(targetError) {}
 
 void TargetErrorMerge::addPass(int index, std::vector<Color> image, uint64_t dropped) {
     if (index < 0 || index >= exact::kMaxPasses)

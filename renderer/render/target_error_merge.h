@@ -17,8 +17,9 @@ namespace caustic {
 
 class TargetErrorMerge {
 public:
-    /// `targetError`: relative RMS error to stop at (0 for none).
-    TargetErrorMerge(int width, int height, double targetError);
+    /// `targetError`: relative RMS error to stop at (0 for none); `bias`: whether the passes carry
+    /// their bias (Film's bias layer).
+    TargetErrorMerge(int width, int height, double targetError, bool bias = false);
 
     /// Takes pass `index` (its image and dropped samples, from RenderCallbacks::onPassImage).
     /// Passes after the stop are dropped. Throws std::invalid_argument for a pass taken before.

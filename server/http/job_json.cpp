@@ -43,9 +43,6 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
         eta = live->etaSeconds;
         if (eta >= 0) etaReason = toString(live->etaReason);
     }
-    const bool biased = errorExcludesBias(job.settings.value("integrator", ""),
-                                          job.settings.value("caustics", "") == "photon_map" ||
-                                              job.settings.value("indirect", "") == "photon_map");
     Json links{
         {"self", self}, {"events", self + "/events"}, {"preview_png", self + "/preview.png"}};
     if (job.state == JobState::Succeeded) {
@@ -73,7 +70,9 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
                 {"relative_error", number(error)},
                 {"eta_seconds", eta >= 0 ? number(eta) : Json(nullptr)},
                 {"eta_reason", etaReason},
-                {"error_excludes_bias", biased},
+                // The photon maps' bias is in the error (their films' bias layer): no job's
+                // error leaves it out. Kept for clients that read it.
+                {"error_excludes_bias", false},
                 {"settings", job.settings},
                 {"stats", job.stats},
                 {"convergence", job.convergence},

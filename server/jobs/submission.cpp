@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "film/exact_sum.h"
 #include "gltf/scene_document.h"
+#include "render/integrator_factory.h"
 #include "render/memory_estimate.h"
 #include "render/resolution.h"
 #include "scene/json_reader.h"
@@ -163,10 +164,12 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
         job.passesTotal = settings.passesTotal();
         job.taskPasses = int(taskPasses > 0 ? taskPasses : config.taskPasses);
         if (settings.targetError > 0) {
-            // A target error's task hands in each pass's image (12 bytes a pixel), held in its
-            // worker's memory until then: at most kMaxPassImageBytes a task.
+            // A target error's task hands in each pass's image (12 bytes a pixel, 24 with its
+            // bias), held in its worker's memory until then: at most kMaxPassImageBytes a task.
             const int64_t pixels = int64_t(scene->camera.width()) * scene->camera.height();
-            const auto most = int(std::max<int64_t>(1, kMaxPassImageBytes / (12 * pixels)));
+            const int64_t bytes =
+                estimatesBias(settings.integrator, settings.path.photonMapped()) ? 24 : 12;
+            const auto most = int(std::max<int64_t>(1, kMaxPassImageBytes / (bytes * pixels)));
             if (taskPasses > most)
                 throw InputError("/task_passes",
                                  "a job with a target error hands in each pass's image: at " +

@@ -261,16 +261,23 @@ def test_a_preset_sits_between_the_scene_and_the_request(server):
     assert_problem(r, 422, "/settings/preset", "valid: none, draft, preview, final")
 
 
-def test_the_error_of_photon_mapping_says_it_excludes_the_bias(server):
-    # path with a caustic photon map is consistent as ppm is: its bias falls pass by pass.
-    for extra, biased in (({"integrator": "path"}, False), ({"integrator": "photon"}, True),
+def test_the_error_of_photon_mapping_includes_its_bias(server):
+    # The photon mappers' films carry their bias (film/film.h): the error is noise plus bias, the
+    # stats give both, and error_excludes_bias (kept for clients) is false for every job.
+    for extra, mapped in (({"integrator": "path"}, False), ({"integrator": "photon"}, True),
                           ({"integrator": "ppm"}, True),
                           ({"integrator": "path", "caustics": "photon_map"}, True)):
         job = submit_ok(server, {"scene": TINY_SCENE,
-                                 "settings": {**extra, "spp": 2, "photons": 1000}})
-        assert job["error_excludes_bias"] is biased, extra
+                                 "settings": {**extra, "spp": 4, "spp_per_pass": 1,
+                                              "photons": 1000}})
+        assert job["error_excludes_bias"] is False, extra
         done = run_to_end(server, job["id"])
-        assert done["error_excludes_bias"] is biased and done["eta_reason"] is None, done
+        assert done["error_excludes_bias"] is False and done["eta_reason"] is None, done
+        stats = done["stats"]
+        error, noise, bias = stats["relative_error"], stats["relative_noise"], stats["relative_bias"]
+        assert abs(error ** 2 - noise ** 2 - bias ** 2) <= 1e-9 * max(error ** 2, 1e-30), stats
+        if not mapped:
+            assert bias == 0, (extra, stats)
 
 
 def test_invalid_submissions_name_the_json_path(server):

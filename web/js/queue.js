@@ -65,7 +65,7 @@ export class QueueView {
     const parts = [`pass ${job.passes_done ?? 0}/${job.passes_total || '?'}`];
     if (job.state === 'running') parts.push(`ETA ${seconds(job.eta_seconds)}${etaUntil(job)}`);
     if (job.relative_error != null)
-      parts.push(`error ${percent(job.relative_error)}${job.error_excludes_bias ? ' (noise only)' : ''}`);
+      parts.push(`error ${percent(job.relative_error)}`);
     if (job.state === 'succeeded' && job.stats) parts.push(seconds(job.stats.total_seconds));
     item.meta.textContent = parts.join(' · ');
     item.error.hidden = !job.error;

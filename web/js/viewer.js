@@ -142,7 +142,7 @@ export class Viewer {
         const per = (set.photons || 0) + (set.caustic_photons || 0);
         row('Photons', `${count(per * s.passes)} photon paths (${count(per)} a pass); maps ${bytes(s.memory?.photon_maps)}`, 'photons');
       }
-      row('Relative error', `${percent(s.relative_error)} (estimated RMS${job.error_excludes_bias ? ', noise only: excludes the bias' : ''})`, 'relative_error');
+      row('Relative error', `${percent(s.relative_error)} (estimated RMS${s.relative_bias > 0 ? `: noise ${percent(s.relative_noise)}, bias ${percent(s.relative_bias)}` : ''})`, 'relative_error');
       row('Passes', `${s.passes} (stopped by ${String(s.stop_reason).replace('_', ' ')})`, 'passes');
       row('Samples per pixel', String(s.spp), 'spp');
       const parts = Object.entries(s.memory || {}).filter(([k, v]) => k !== 'total' && v > 0)
@@ -155,7 +155,7 @@ export class Viewer {
       row('State', job.state, 'state');
       if (started) row('Elapsed', seconds((end - started) / 1000), 'time');
       row('Passes', `${job.passes_done ?? 0} of ${job.passes_total || '?'}`, 'passes');
-      row('Relative error', `${percent(job.relative_error)}${job.error_excludes_bias ? ' (noise only: excludes the bias)' : ''}`, 'relative_error');
+      row('Relative error', percent(job.relative_error), 'relative_error');
       if (!isTerminal(job.state)) row('ETA', `${seconds(job.eta_seconds)}${etaUntil(job)}`, 'eta');
     }
     row('Settings', Object.entries(set).filter(([k]) => ['integrator', 'accelerator', 'spp', 'max_depth', 'seed'].includes(k))

@@ -103,7 +103,12 @@ Batch mergeWaiting(pqxx::work& tx, const std::string& id, std::unique_ptr<Film>&
                 "the result of its task " + std::to_string(first) + " is no film of the job's";
             return batch;
         }
-        if (!film) film = std::make_unique<Film>(part->width(), part->height());
+        if (!film) film = std::make_unique<Film>(part->width(), part->height(), part->tracksBias());
+        if (film->tracksBias() != part->tracksBias()) {
+            batch.undecodable = "the result of its task " + std::to_string(first) +
+                                " has another film layout than the job's";
+            return batch;
+        }
         film->merge(*part);
         markMerged(tx, id, first);
         ++batch.merged;
@@ -136,7 +141,13 @@ Batch mergeInOrder(pqxx::work& tx, const std::string& id, std::unique_ptr<Film>&
                 "the pass images of its task " + std::to_string(first) + " do not decode";
             return batch;
         }
-        if (!film) film = std::make_unique<Film>(passes->width, passes->height);
+        if (!film)
+            film = std::make_unique<Film>(passes->width, passes->height, passes->layers == 2);
+        if (film->tracksBias() != (passes->layers == 2)) {
+            batch.undecodable = "the pass images of its task " + std::to_string(first) +
+                                " have another layout than the job's";
+            return batch;
+        }
         for (PassImage& p : passes->passes) {
             film->addPass(p.index, p.image, p.dropped);
             if (reachedTargetError(*film, targetError)) {
@@ -148,6 +159,10 @@ Batch mergeInOrder(pqxx::work& tx, const std::string& id, std::unique_ptr<Film>&
         ++batch.merged;
         if (batch.reachedTarget || next[0][2].as<int>() < last - first) return batch;
     }
+}
+
+Json finiteOrNull(double v) {
+    return std::isfinite(v) ? Json(v) : Json();
 }
 
 // The stats of a finished split job, in RenderStats::toJson()'s terms where they apply.
@@ -167,7 +182,9 @@ Json farmStats(pqxx::work& tx, const Job& job, const Film& film, const RenderSet
             {"rays_per_second", wall > 0 ? double(rays) / wall : 0.0},
             {"passes", film.passes()},
             {"spp", film.passes() * settings.resolvedSppPerPass()},
-            {"relative_error", std::isfinite(error) ? Json(error) : Json()},
+            {"relative_error", finiteOrNull(error)},
+            {"relative_noise", finiteOrNull(film.relativeNoise())},
+            {"relative_bias", finiteOrNull(film.relativeBias())},
             {"dropped_samples", film.droppedSamples()},
             {"clamped_values", film.clampedValues()},
             {"tasks", sums[2].as<int64_t>()},

@@ -76,6 +76,44 @@ TEST(Film, BytesReproduceTheFilm) {
     EXPECT_FALSE(Film::fromBytes("", 2, 2));
 }
 
+TEST(Film, TheBiasLayerAddsTheBiasToTheError) {
+    // One pixel, passes 1 and 3 (mean 2, noise^2 = se^2 = 1 a channel), each estimating its bias
+    // as 1: the bias layer's mean is 1 with no spread, so bias^2 = 1 a channel and the error is
+    // sqrt((1 + 1) / 4).
+    Film film(1, 1, true);
+    EXPECT_TRUE(film.tracksBias());
+    EXPECT_EQ(film.passPixels(), 2u);
+    EXPECT_THROW(film.addPass({Color(1)}), std::invalid_argument);  // no bias half
+    film.addPass({Color(1), Color(1)});
+    film.addPass({Color(3), Color(1)});
+    EXPECT_EQ(film.mean(0, 0), Color(2));
+    EXPECT_EQ(film.bias(0, 0), Color(1));
+    EXPECT_EQ(film.meanRgb(), std::vector<float>(3, 2.0f));
+    EXPECT_EQ(film.biasRgb(), std::vector<float>(3, 1.0f));
+    EXPECT_DOUBLE_EQ(film.relativeNoise(), 0.5);
+    EXPECT_DOUBLE_EQ(film.relativeBias(), 0.5);
+    EXPECT_DOUBLE_EQ(film.relativeError(), std::sqrt(0.5));
+    // A bias estimate that is noise alone counts for nothing once its own noise is taken out:
+    // +-1 about 0 has mean 0, so 0 - se^2 < 0 comes out as no bias.
+    Film noisy(1, 1, true);
+    noisy.addPass({Color(1), Color(1)});
+    noisy.addPass({Color(3), Color(-1)});
+    EXPECT_DOUBLE_EQ(noisy.relativeBias(), 0.0);
+    EXPECT_DOUBLE_EQ(noisy.relativeError(), 0.5);
+    // The layer travels with the film, and only films alike merge.
+    std::unique_ptr<Film> copy = Film::fromBytes(film.toBytes(), 1, 1);
+    ASSERT_TRUE(copy);
+    EXPECT_TRUE(*copy == film);
+    EXPECT_TRUE(copy->tracksBias());
+    EXPECT_EQ(copy->relativeError(), film.relativeError());
+    Film plain(1, 1);
+    plain.addPass(5, {Color(1)});
+    EXPECT_THROW(film.merge(plain), std::invalid_argument);
+    EXPECT_THROW(plain.addPass(6, {Color(1), Color(1)}), std::invalid_argument);
+    EXPECT_FALSE(Film::fromBytes(plain.toBytes(), 1, 1)->tracksBias());
+    EXPECT_EQ(Film::bytesFor(4, 4, true), 2 * Film::bytesFor(4, 4));
+}
+
 // decode(encode(f)) == f for the values that test each part of the encoding: zero, the smallest
 // quantum, negative sums (zigzag), values at the clamp (sums near 2^105 over many passes, squares
 // beyond 128 bits), NaN and infinities (counted, stored as 0 or clamped).

@@ -166,6 +166,75 @@ TEST(ErrorTrustOfSobolSequence, ReportedErrorIsNotBelowTheTrueError) {
     }
 }
 
+// The photon maps' bias is in their error estimate (film/film.h, the bias layer): the reported
+// error, noise plus bias, against the true error, for photon-mapped configurations at 8, 16 and 32
+// passes of 4 samples over kSeeds seeds (the reference is the path tracer's). On scenes where the
+// error is not the lamp's edges or rare paths through glass (cornell-box and caustic-glass: their
+// ratio is the path tracer's own, above), so that the maps' part of the error shows. Measured
+// (24^2): 0.80 to 1.05 at the default radii; with a radius far past the default (ppm_blurred, 0.4,
+// the bias 34% to 62% of the error) 0.74 to 0.95, where the noise alone would give 0.58 to 0.89:
+// a bias that saturates at large radii grows slower than r^2, and the two-radius estimate
+// (photons/photon_map.h) then reads it short. The bound below holds what was measured less a
+// margin; the study's trust table (docs/study/README.md) is where the 0.8 to 1.25 goal is judged.
+struct MappedConfig {
+    const char* name;
+    json settings;
+};
+
+class ErrorTrustOfPhotonMaps
+    : public ::testing::TestWithParam<std::tuple<std::string, MappedConfig>> {};
+
+TEST_P(ErrorTrustOfPhotonMaps, ReportedErrorWithBiasTracksTheTrueError) {
+    const auto& [sceneName, config] = GetParam();
+    auto scene = sceneFromJson(exampleScene(sceneName, kSize, kSize));
+    RenderResult ref =
+        render(*scene, settingsFrom({{"spp", 8192}, {"spp_per_pass", 128}, {"seed", 1000003}}));
+    const std::vector<float> refMean = ref.film->meanRgb(), refSe = ref.film->standardErrorRgb();
+    std::map<int, double> reported, noise, truth;
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+        RenderCallbacks callbacks;
+        callbacks.onPass = [&](const Film& film) {
+            for (int passes : kRungs)
+                if (film.passes() == passes) {
+                    ASSERT_TRUE(film.tracksBias());
+                    const Trust t = trustOf(film, refMean, refSe);
+                    reported[passes] += t.reported * t.reported;
+                    noise[passes] += film.relativeNoise() * film.relativeNoise();
+                    truth[passes] += t.truth * t.truth;
+                }
+        };
+        json settings = config.settings;
+        settings.update({{"spp", 128}, {"spp_per_pass", 4}, {"seed", seed}});
+        render(*scene, settingsFrom(settings), callbacks);
+    }
+    for (int passes : kRungs) {
+        const double ratio = std::sqrt(reported[passes] / truth[passes]);
+        const double noiseRatio = std::sqrt(noise[passes] / truth[passes]);
+        std::printf("  %s, %s, %d passes: reported / true error %.3f (noise alone %.3f)\n",
+                    sceneName.c_str(), config.name, passes, ratio, noiseRatio);
+        EXPECT_GE(ratio, 0.7) << passes << " passes";
+        EXPECT_LE(ratio, 1.25) << passes << " passes";
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    ExampleScenes, ErrorTrustOfPhotonMaps,
+    ::testing::Combine(
+        ::testing::Values("cornell-spheres", "indirect"),
+        ::testing::Values(
+            MappedConfig{"ppm", {{"integrator", "ppm"}, {"photons", 20000}}},
+            MappedConfig{
+                "path_both",
+                {{"integrator", "path"}, {"caustics", "photon_map"}, {"indirect", "photon_map"}}},
+            MappedConfig{"photon_k50", {{"integrator", "photon"}, {"photons", 20000}}},
+            MappedConfig{"ppm_blurred",
+                         {{"integrator", "ppm"}, {"photons", 200000}, {"radius", 0.4}}})),
+    [](const auto& p) {
+        std::string name = std::get<0>(p.param) + "_" + std::get<1>(p.param).name;
+        std::erase(name, '-');
+        return name;
+    });
+
 INSTANTIATE_TEST_SUITE_P(ExampleScenes, ErrorTrust,
                          ::testing::Values("cornell-box", "cornell-spheres", "bunny",
                                            "caustic-glass", "meshes", "indirect"),

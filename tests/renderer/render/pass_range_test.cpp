@@ -141,7 +141,8 @@ TEST_P(PassRanges, TargetErrorStopsAtTheSamePassWhateverTheSplit) {
             session.renderRange(cuts[r], cuts[r + 1], *film, keep);
         }
         std::shuffle(ranges.begin(), ranges.end(), rng);
-        TargetErrorMerge merge(whole.film->width(), whole.film->height(), target);
+        TargetErrorMerge merge(whole.film->width(), whole.film->height(), target,
+                               whole.film->tracksBias());
         for (std::vector<Pass>& range : ranges)
             for (Pass& p : range) merge.addPass(p.index, std::move(p.image), p.dropped);
         SCOPED_TRACE("partition " + std::to_string(trial) + " into " +
