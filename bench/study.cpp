@@ -113,6 +113,16 @@ std::vector<Config> allConfigs() {
 
 const std::vector<std::string> kScenes = {"cornell-box",   "cornell-spheres", "bunny",
                                           "caustic-glass", "meshes",          "indirect"};
+// Scenes no setting was tuned on (glossy and rough materials, textures, an environment, spot
+// lights): --trust runs them beside the study's.
+const std::vector<std::string> kHeldOutScenes = {"outdoor-metals", "product-shot", "stage-lights"};
+
+// Whether a configuration's estimator is biased (photon maps): its film has the bias layer.
+bool biased(const Config& c) {
+    const Json& s = c.settings;
+    return s.value("integrator", "path") != "path" || s.value("caustics", "") == "photon_map" ||
+           s.value("indirect", "") == "photon_map";
+}
 
 struct Options {
     std::vector<std::string> scenes = kScenes;
@@ -120,6 +130,7 @@ struct Options {
     int size = 96;
     int refSpp = 16384;
     std::vector<int> ladder = {4, 8, 16, 32, 64, 128, 256};
+    std::vector<int> passLadder;  // rungs in passes instead of spp, when given
     int seeds = 1;
     std::string csv = "study.csv";
     double forecastTarget = 0.015;
@@ -132,9 +143,11 @@ int parseArgs(int argc, char** argv, Options& o) {
     bool smoke = false;
     addCommonOptions(app, repeatsUnused, "Unused (see --seeds)", smoke,
                      "2 scenes at 24x24, a 1024-spp reference, rungs 4 to 32");
+    std::vector<std::string> sceneNames = kScenes;
+    sceneNames.insert(sceneNames.end(), kHeldOutScenes.begin(), kHeldOutScenes.end());
     app.add_option("--scenes", o.scenes, "Example scenes, comma-separated")
         ->delimiter(',')
-        ->check(CLI::IsMember(kScenes))
+        ->check(CLI::IsMember(sceneNames))
         ->capture_default_str();
     std::vector<std::string> names;
     for (const Config& c : allConfigs()) names.push_back(c.name);
@@ -146,13 +159,34 @@ int parseArgs(int argc, char** argv, Options& o) {
                             "Samples per pixel of the path-traced reference");
     caustic::cli::addNumber(app, "--ladder", o.ladder, 1, 1e6,
                             "Rungs, samples per pixel, comma-separated, increasing");
+    caustic::cli::addNumber(app, "--passes", o.passLadder, 1, 1e6,
+                            "Rungs in passes instead of spp, comma-separated, increasing");
     caustic::cli::addNumber(app, "--seeds", o.seeds, 1, 1000, "Renders per configuration");
+    bool trust = false;
+    app.add_flag("--trust", trust,
+                 "The error estimate of the photon maps: every biased configuration on every "
+                 "scene, the held-out ones too, at 8, 32 and 128 passes, 64x64, 2 seeds (options "
+                 "after it override)");
     app.add_option("--csv", o.csv,
                    "Where the rows go; the forecasts go beside it, to NAME-forecast.csv")
         ->capture_default_str();
     caustic::cli::addNumber(app, "--forecast-target", o.forecastTarget, 1e-4, 1,
                             "Target error of the forecast's renders (path, 4 spp per pass)");
     if (int exitCode = parseBenchmarkArgs(app, argc, argv); exitCode >= 0) return exitCode;
+    if (trust) {
+        // Defaults of the trust run; options given after --trust still apply (CLI11 parsed them),
+        // so only what was not given is set here.
+        if (app.count("--scenes") == 0) {
+            o.scenes = sceneNames;
+        }
+        if (app.count("--configs") == 0)
+            for (const Config& c : allConfigs())
+                if (biased(c)) o.configs.push_back(c.name);
+        if (app.count("--passes") == 0) o.passLadder = {8, 32, 128};
+        if (app.count("--size") == 0) o.size = 64;
+        if (app.count("--seeds") == 0) o.seeds = 2;
+        o.forecastTarget = 0;
+    }
     if (smoke) {
         o.scenes = {"cornell-spheres", "caustic-glass"};
         o.size = 24;
@@ -161,6 +195,7 @@ int parseArgs(int argc, char** argv, Options& o) {
         o.forecastTarget = 0.05;
     }
     std::sort(o.ladder.begin(), o.ladder.end());
+    std::sort(o.passLadder.begin(), o.passLadder.end());
     return -1;
 }
 
@@ -238,11 +273,13 @@ Reference reference(const caustic::Scene& scene, const Json& doc, const Options&
 struct Rung {
     int spp = 0, passes = 0;
     double seconds = 0, rmse = 0, relMse = 0, rmseCaustic = -1, rmseEdges = 0, reported = 0,
-           trueRelative = 0, noiseRelative = 0, biasRms = 0, coverage = 0;
+           trueRelative = 0, noiseRelative = 0, biasRms = 0, coverage = 0, reportedNoise = 0,
+           reportedBias = 0;
 };
 
 Rung measure(const caustic::Film& film, const Reference& ref, const Regions& regions) {
-    const std::vector<float> mean = film.meanRgb(), se = film.standardErrorRgb();
+    const std::vector<float> mean = film.meanRgb(), se = film.standardErrorRgb(),
+                             bias = film.biasRgb();
     const double t = film.passes() >= 2 ? caustic::studentThreshold(0.05, film.passes() - 1) : 0;
     Sums all, caustic, edges;
     double relSq = 0;
@@ -255,8 +292,10 @@ Rung measure(const caustic::Film& film, const Reference& ref, const Regions& reg
         const double d = double(mean[i]) - ref.mean[i];
         // Relative MSE with Rousselle et al.'s 0.01 keeping dark pixels from dominating.
         relSq += d * d / (double(ref.mean[i]) * ref.mean[i] + 0.01);
-        // The 95% interval from the passes, widened by the reference's own noise.
-        covered += std::abs(d) <= t * std::hypot(double(se[i]), double(ref.se[i]));
+        // The 95% interval from the passes, widened by the reference's own noise and by the
+        // film's estimate of its bias there (zero for an unbiased estimator).
+        covered += std::abs(d) <=
+                   t * std::hypot(double(se[i]), double(ref.se[i])) + std::abs(double(bias[i]));
     }
     Rung r;
     r.passes = film.passes();
@@ -265,6 +304,8 @@ Rung measure(const caustic::Film& film, const Reference& ref, const Regions& reg
     if (caustic.n) r.rmseCaustic = caustic.rmseLessReference();
     r.rmseEdges = edges.n ? edges.rmseLessReference() : 0;
     r.reported = film.relativeError();
+    r.reportedNoise = film.relativeNoise();
+    r.reportedBias = film.relativeBias();
     r.trueRelative = all.relativeLessReference();
     r.noiseRelative = all.relativeNoise();
     r.biasRms = all.bias();
@@ -315,7 +356,7 @@ int main(int argc, char** argv) {
         if (!csv) throw std::runtime_error("cannot write " + opt.csv);
         csv << "scene,config,integrator,sampler,spp_per_pass,seed,spp,passes,seconds,rmse,rel_mse,"
                "rmse_caustic,rmse_edges,reported_rel_error,true_rel_error,noise_rel_error,bias_rms,"
-               "coverage95\n";
+               "coverage95,reported_noise,reported_bias\n";
         Json meta = {{"reference_seconds", Json::object()}};
         std::ofstream forecastCsv(opt.csv.substr(0, opt.csv.rfind('.')) + "-forecast.csv");
         forecastCsv << "scene,target_error,after_passes,elapsed_seconds,predicted_seconds,"
@@ -331,17 +372,24 @@ int main(int argc, char** argv) {
                       << regions.edgePixels << " edge pixels\n";
             const Reference ref = reference(*scene, doc, opt);
             meta["reference_seconds"][sceneName] = ref.seconds;
-            forecastRows(*scene, sceneName, opt.forecastTarget, forecastCsv);
+            if (opt.forecastTarget > 0)
+                forecastRows(*scene, sceneName, opt.forecastTarget, forecastCsv);
             for (const Config& config : allConfigs()) {
                 if (!opt.configs.empty() && std::find(opt.configs.begin(), opt.configs.end(),
                                                       config.name) == opt.configs.end())
                     continue;
                 for (int seed = 1; seed <= opt.seeds; ++seed) {
                     Json settings = config.settings;
-                    settings["spp"] = opt.ladder.back();
                     settings["seed"] = seed;
+                    const int perPass = caustic::parseSettings(settings).resolvedSppPerPass();
+                    // Rungs in spp: the --passes ladder's, or --ladder's.
+                    std::vector<int> ladder = opt.ladder;
+                    if (!opt.passLadder.empty()) {
+                        ladder.clear();
+                        for (int passes : opt.passLadder) ladder.push_back(passes * perPass);
+                    }
+                    settings["spp"] = ladder.back();
                     const caustic::RenderSettings s = caustic::parseSettings(settings);
-                    const int perPass = s.resolvedSppPerPass();
                     std::vector<Rung> rungs;
                     // The time spent measuring is not the render's.
                     double measuring = 0;
@@ -349,9 +397,7 @@ int main(int argc, char** argv) {
                     caustic::RenderCallbacks callbacks;
                     callbacks.onPass = [&](const caustic::Film& film) {
                         const int spp = film.passes() * perPass;
-                        if (std::find(opt.ladder.begin(), opt.ladder.end(), spp) ==
-                            opt.ladder.end())
-                            return;
+                        if (std::find(ladder.begin(), ladder.end(), spp) == ladder.end()) return;
                         const double elapsed = secondsSince(start) - measuring;
                         const auto t0 = std::chrono::steady_clock::now();
                         Rung r = measure(film, ref, regions);
@@ -379,7 +425,8 @@ int main(int argc, char** argv) {
                             << fmt("%.6g", r.rmseEdges) << ',' << fmt("%.6g", r.reported) << ','
                             << fmt("%.6g", r.trueRelative) << ',' << fmt("%.6g", r.noiseRelative)
                             << ',' << fmt("%.6g", r.biasRms) << ',' << fmt("%.4f", r.coverage)
-                            << '\n';
+                            << ',' << fmt("%.6g", r.reportedNoise) << ','
+                            << fmt("%.6g", r.reportedBias) << '\n';
                     csv.flush();
                     std::cerr << "  " << config.name << " seed " << seed << ": " << rungs.size()
                               << " rungs, " << fmt("%.1f", rungs.empty() ? 0 : rungs.back().seconds)
@@ -391,6 +438,7 @@ int main(int argc, char** argv) {
         meta["size"] = opt.size;
         meta["ref_spp"] = opt.refSpp;
         meta["ladder"] = opt.ladder;
+        meta["pass_ladder"] = opt.passLadder;
         meta["seeds"] = opt.seeds;
         meta["forecast_target"] = opt.forecastTarget;
         meta["machine"] = "nproc " + std::to_string(onlineCpus()) + ", OpenMP threads " +

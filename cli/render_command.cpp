@@ -13,8 +13,10 @@
 #include "gltf/scene_document.h"
 #include "progress_bar.h"
 #include "render/integrator_factory.h"
+#include "render/presets.h"
 #include "render/renderer.h"
 #include "render/resolution.h"
+#include "render/scene_traits.h"
 #include "render/settings.h"
 #include "scene/scene.h"
 
@@ -89,8 +91,15 @@ int runRender(const RenderOptions& options) {
                 throw InputError("", "--camera and --environment apply to glTF files only");
             scene = loadSceneDocument(readJsonFile(scenePath), sceneOptions);
         }
-        settings = parseSettings(mergeSettings(scene->settings, options.overrides));
+        const SceneTraits traits = sceneTraits(*scene);
+        const Json merged = mergeSettings(scene->settings, options.overrides, &traits);
+        settings = parseSettings(merged);
         applyResolution(*scene, settings, sceneOptions);
+        // What a preset chose for this scene, and why.
+        if (const Json choice = presetChoice(merged, traits); !choice.is_null() && !options.quiet)
+            for (const Json& reason : choice["reasons"])
+                std::cerr << "caustic: " << choice["preset"].get<std::string>() << ": "
+                          << reason.get<std::string>() << "\n";
     } catch (const InputError& e) {
         std::cerr << "caustic: error: " << scenePath.string() << ": " << e.what() << "\n";
         return 2;

@@ -43,7 +43,9 @@ Json settingsSchemaJson() {
             // What each preset sets, for the API's users and the page's preset menu.
             Json sets = Json::object();
             for (const Preset& p : presets())
-                sets[p.name] = {{"description", p.description}, {"settings", p.settings}};
+                sets[p.name] = {{"description", p.description},
+                                {"settings", p.settings},
+                                {"scene_maps", p.sceneMaps}};
             j["presets"] = sets;
         }
         out[s.name] = j;
@@ -60,23 +62,31 @@ void overlay(Json& onto, const Json& values) {
 
 }  // namespace
 
-Json mergeSettings(const Json& defaults, const Json& overrides) {
+Json mergeSettings(const Json& defaults, const Json& overrides, const SceneTraits* traits) {
     const bool overridden = overrides.is_object() && overrides.contains("preset");
-    const bool defaulted = defaults.is_object() && defaults.contains("preset");
-    const Json preset = overridden  ? presetSettings(overrides["preset"])
-                        : defaulted ? presetSettings(defaults["preset"])
-                                    : Json::object();
+    // Where neither names a preset, the default one (RenderSettings::preset) is as if the
+    // defaults named it: beneath their values.
+    const Json defaultPreset = RenderSettings().preset;
+    const Json& named = overridden                                            ? overrides["preset"]
+                        : defaults.is_object() && defaults.contains("preset") ? defaults["preset"]
+                                                                              : defaultPreset;
+    const Json preset = presetSettings(named, traits);
     Json merged = Json::object();
-    if (!overridden) overlay(merged, preset);
+    if (!overridden) {
+        merged["preset"] = named;
+        overlay(merged, preset);
+    }
     overlay(merged, defaults);
     if (overridden) overlay(merged, preset);
     overlay(merged, overrides);
-    // A preset's passes must not outgrow an spp given beside it (`--preset final --spp 16`).
+    // A preset's passes must leave an spp given beside it (`--preset final --spp 64`) the 8
+    // passes an error estimate needs, as far as it can.
     const Json& perPass = merged.contains("spp_per_pass") ? merged["spp_per_pass"] : Json();
-    if (preset.contains("spp_per_pass") && perPass == preset["spp_per_pass"] &&
-        merged.contains("spp") && merged["spp"].is_number() && perPass.is_number() &&
-        merged["spp"] < perPass)
-        merged["spp_per_pass"] = merged["spp"];
+    const bool presetSpp = preset.contains("spp") && merged.value("spp", Json()) == preset["spp"];
+    if (preset.contains("spp_per_pass") && perPass == preset["spp_per_pass"] && !presetSpp &&
+        merged.contains("spp") && merged["spp"].is_number_integer() &&
+        perPass.is_number_integer() && merged["spp"].get<int64_t>() < 8 * perPass.get<int64_t>())
+        merged["spp_per_pass"] = std::max<int64_t>(1, merged["spp"].get<int64_t>() / 8);
     return merged;
 }
 

@@ -20,11 +20,13 @@ namespace caustic {
 using Json = nlohmann::json;
 
 struct SettingSpec;
+struct SceneTraits;
 
 /// The validated settings of one render: the general ones (TraceSettings holds maxDepth, seed and
 /// threads, which integrators read too), then each integrator's own Settings.
 struct RenderSettings : TraceSettings {
-    std::string preset = "none";  ///< The preset the settings started from (render/presets.h).
+    /// The preset the settings started from (render/presets.h); auto where none is named.
+    std::string preset = "auto";
     std::string integrator = "path";
     int spp = 16;            ///< Samples per pixel: the most the render takes.
     int sppPerPass = 0;      ///< Samples per pixel in each pass; 0 chooses.
@@ -114,8 +116,11 @@ Json settingsSchemaJson();
 
 /// Overlays `overrides` on `defaults` (both objects of settings), key by key, with the preset that
 /// `overrides` names (else the one `defaults` names) between them: a preset replaces the defaults'
-/// values for what it sets, and `overrides` replace the preset's (render/presets.h).
-Json mergeSettings(const Json& defaults, const Json& overrides);
+/// values for what it sets, and `overrides` replace the preset's (render/presets.h). With the
+/// scene's `traits`, a preset that takes photon maps takes those the scene needs. A preset's
+/// spp_per_pass shrinks to leave spp at least 8 passes where it can.
+Json mergeSettings(const Json& defaults, const Json& overrides,
+                   const SceneTraits* traits = nullptr);
 /// Validates a settings object against the table and fills RenderSettings. Every setting is
 /// accepted whichever the integrator (a scene's defaults may serve several). Unknown keys, wrong
 /// types, and values out of range are InputErrors with the path `path`/key.

@@ -91,9 +91,12 @@ std::vector<SettingSpec> rows() {
         {.name = "preset",
          .field = field(&R::preset),
          .choices = presetNames(),
-         .description = "Named settings from the speed/accuracy study (draft, preview, final); "
-                        "they replace the scene's own, and every setting given beside the preset "
-                        "replaces the preset's. none: the scene's settings and the defaults."},
+         .description = "Named settings from the speed/accuracy study. auto (the default) chooses "
+                        "photon maps, sampler and pass size from what the scene holds, beneath "
+                        "the scene's own settings; draft, preview and final also set how long "
+                        "to render, and replace the scene's own. Every setting given beside a "
+                        "preset replaces the preset's. none: the scene's settings and the "
+                        "defaults."},
         {.name = "integrator",
          .field = field(&R::integrator),
          .choices = integratorNames(),
@@ -163,7 +166,7 @@ std::vector<SettingSpec> rows() {
                         "map of `photons` paths a pass, read at every diffuse vertex with ppm's "
                         "shrinking radius (`radius`, `alpha`, `kernel`): consistent as ppm is, "
                         "with a bias that falls pass by pass and that the error estimate "
-                        "excludes; point lights' caustics appear too."},
+                        "includes; point lights' caustics appear too."},
         {.name = "indirect",
          .field = field(&R::path, &Path::indirect),
          .choices = {"paths", "photon_map"},  // PathSource's order
@@ -176,7 +179,7 @@ std::vector<SettingSpec> rows() {
                         "`alpha`, `kernel`); the first diffuse vertex's BSDF sample is a final "
                         "gather, which hides the estimate's blur. Fewer rays a sample and less "
                         "noise from long paths; consistent as ppm is, with a bias that falls pass "
-                        "by pass and that the error estimate excludes."},
+                        "by pass and that the error estimate includes."},
         {.name = "indirect_photons",
          .field = field(&R::path, &Path::indirectPhotons),
          .min = 1,

@@ -74,6 +74,7 @@ Json jobJson(const Job& job, const std::optional<LiveProgress>& live) {
                 // error leaves it out. Kept for clients that read it.
                 {"error_excludes_bias", false},
                 {"settings", job.settings},
+                {"preset_choice", job.presetChoice},
                 {"stats", job.stats},
                 {"convergence", job.convergence},
                 {"error", job.error.empty() ? Json(nullptr) : Json(job.error)},

@@ -7,7 +7,10 @@
 #include "gltf/scene_document.h"
 #include "render/integrator_factory.h"
 #include "render/memory_estimate.h"
+#include "render/presets.h"
 #include "render/resolution.h"
+#include "render/scene_traits.h"
+#include "render/settings.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 
@@ -141,20 +144,50 @@ Job prepareJob(const Json& body, const ServerConfig& config, MeshCountCache& mes
     Json asked = body.value("settings", Json::object());
     if (!asked.is_object())
         throw InputError("/settings", "expected an object, got " + jsonTypeName(asked));
-    RenderSettings settings = parseSettings(mergeSettings(scene->settings, asked), "/settings");
-    applyResolution(*scene, settings, options);
-
-    // The service's limits, on every setting the job's integrator reads that one caps (a path
-    // job's photons only with a photon map: without one it traces none).
-    const Json s = settings.toJson();
-    for (const SettingSpec& spec : settingSpecs())
-        if (spec.cap != SettingCap::None && s.contains(spec.name)) atMost(s, spec, limits);
-    if (settings.timeLimit == 0) settings.timeLimit = limits.maxTimeLimit;
-    if (settings.memoryLimit == 0) settings.memoryLimit = limits.maxMemoryMiB;
-    if (config.renderThreads > 0 &&
-        (settings.threads == 0 || settings.threads > config.renderThreads))
-        settings.threads = config.renderThreads;
-    checkMemoryEstimate(*scene, settings);
+    const SceneTraits traits = sceneTraits(*scene);
+    Json merged = mergeSettings(scene->settings, asked, &traits);
+    job.presetChoice = presetChoice(merged, traits);
+    // The settings as admitted: the service's limits on every setting the job's integrator reads
+    // that one caps (a path job's photons only with a photon map: without one it traces none),
+    // its defaults for the time and memory limits, and the memory estimate.
+    auto admit = [&](const Json& values) {
+        RenderSettings settings = parseSettings(values, "/settings");
+        applyResolution(*scene, settings, options);
+        const Json s = settings.toJson();
+        for (const SettingSpec& spec : settingSpecs())
+            if (spec.cap != SettingCap::None && s.contains(spec.name)) atMost(s, spec, limits);
+        if (settings.timeLimit == 0) settings.timeLimit = limits.maxTimeLimit;
+        if (settings.memoryLimit == 0) settings.memoryLimit = limits.maxMemoryMiB;
+        if (config.renderThreads > 0 &&
+            (settings.threads == 0 || settings.threads > config.renderThreads))
+            settings.threads = config.renderThreads;
+        checkMemoryEstimate(*scene, settings);
+        return settings;
+    };
+    RenderSettings settings;
+    try {
+        settings = admit(merged);
+    } catch (const InputError& e) {
+        // Photon maps the preset chose, where this service's limits leave no room for them, are
+        // left out (the reasons say so): the job is refused only for what its request asked.
+        // A map the request or the scene asked for stays, and is refused.
+        if (job.presetChoice.is_null()) throw;
+        Json kept = Json::object();
+        bool dropped = false;
+        for (auto& [key, value] : job.presetChoice["settings"].items()) {
+            if (asked.contains(key) || scene->settings.contains(key)) {
+                kept[key] = value;
+                continue;
+            }
+            merged[key] = "paths";
+            dropped = true;
+            job.presetChoice["reasons"].push_back(key + ": paths after all; " + e.path() + ": " +
+                                                  e.message());
+        }
+        if (!dropped) throw;
+        job.presetChoice["settings"] = kept;
+        settings = admit(merged);
+    }
 
     job.settings = settings.toJson();
     job.priority = int(integerField(body, "priority", -1000, 1000, 0));

@@ -46,6 +46,8 @@ struct Job {
     Json settings;  ///< The complete, validated settings.
     std::string sceneName;            ///< The example scene's name when one was asked for by name.
     std::vector<std::string> assets;  ///< Distinct asset ids its scene names; read back by get().
+    /// What its preset chose for the scene and why (render/presets.h presetChoice); null if none.
+    Json presetChoice;
     double createdAt = 0, startedAt = 0, finishedAt = 0;  ///< Unix seconds; 0 for not yet.
 
     // The lease protocol (store/job_store.h).

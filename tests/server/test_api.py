@@ -142,7 +142,7 @@ def test_metrics(server):
 # Submitting and rendering.
 
 def test_submit_example_scene_by_name(server):
-    job = submit_ok(server, {"scene": "cornell-box", "settings": {"spp": 1}})
+    job = submit_ok(server, {"scene": "cornell-box", "settings": {"spp": 1, "preset": "none"}})
     assert job["state"] == "queued"
     assert job["scene_name"] == "cornell-box"
     assert job["created_at"].endswith("Z") and job["finished_at"] is None
@@ -237,11 +237,36 @@ def test_request_settings_override_the_scenes(server):
     assert run_to_end(server, job["id"])["passes_done"] == 3
 
 
+def test_auto_is_the_default_and_says_what_it_chose_and_why(server):
+    # cornell-box: a closed diffuse room under a lamp, nothing specular: the indirect map alone.
+    job = submit_ok(server, {"scene": "cornell-box", "settings": {"spp": 16}})
+    assert job["settings"]["preset"] == "auto"
+    assert job["settings"]["indirect"] == "photon_map" and job["settings"]["caustics"] == "paths"
+    assert job["settings"]["sampler"] == "sobol_sequence"
+    assert job["settings"]["spp_per_pass"] == 2  # 8 passes of the 16 spp asked
+    assert "indirect_photons" in job["settings"]
+    choice = job["preset_choice"]
+    assert choice["preset"] == "auto"
+    assert choice["settings"] == {"indirect": "photon_map"}
+    assert [r.split(":")[0] for r in choice["reasons"]] == ["caustics", "indirect"]
+    assert "no mirror or smooth glass" in choice["reasons"][0]
+    final = run_to_end(server, job["id"])
+    assert final["state"] == "succeeded" and final["preset_choice"] == choice
+    assert final["stats"]["relative_bias"] >= 0
+    # A request's own value stands; preset none chooses nothing.
+    job = submit_ok(server, {"scene": "cornell-box", "settings": {"spp": 16, "indirect": "paths"}})
+    assert job["settings"]["indirect"] == "paths" and job["preset_choice"]["settings"] == {}
+    assert "replaced by indirect=\"paths\"" in job["preset_choice"]["reasons"][1]
+    job = submit_ok(server, {"scene": "cornell-box", "settings": {"spp": 16, "preset": "none"}})
+    assert job["preset_choice"] is None and job["settings"]["sampler"] == "independent"
+
+
 def test_a_preset_sits_between_the_scene_and_the_request(server):
     spec = server.get("/api/settings").json()["preset"]
-    assert spec["enum"] == ["none", "draft", "preview", "final"]  # fastest first
+    assert spec["enum"] == ["none", "auto", "draft", "preview", "final"]
+    assert spec["default"] == "auto"
     presets = spec["presets"]
-    assert set(presets) == {"draft", "preview", "final"}
+    assert set(presets) == {"auto", "draft", "preview", "final"}
     for p in presets.values():
         assert p["description"] and p["settings"]
     scene = tiny_scene()
@@ -258,7 +283,7 @@ def test_a_preset_sits_between_the_scene_and_the_request(server):
     assert run_to_end(server, job["id"])["state"] == "succeeded"
     # An unknown preset is a 422 at its path, naming the valid ones.
     r = server.submit({"scene": scene, "settings": {"preset": "ultra"}})
-    assert_problem(r, 422, "/settings/preset", "valid: none, draft, preview, final")
+    assert_problem(r, 422, "/settings/preset", "valid: none, auto, draft, preview, final")
 
 
 def test_the_error_of_photon_mapping_includes_its_bias(server):

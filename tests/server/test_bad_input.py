@@ -273,8 +273,14 @@ def test_photon_limit_applies_wherever_photons_are_traced(start_server):
     # traces none; a job that traces photons over it is refused, naming the setting: photon and
     # ppm, and path with either of its photon maps.
     server = start_server("--threads", "2", "--max-photons", "1000")
+    r = server.submit({"scene": TINY_SCENE, "settings": {"spp": 1, "preset": "none"}})
+    assert r.status_code == 202, r.text
+    # auto's photon map, over the limit, is left out, and the job says why.
     r = server.submit({"scene": TINY_SCENE, "settings": {"spp": 1}})
     assert r.status_code == 202, r.text
+    job = r.json()
+    assert job["settings"]["indirect"] == "paths", job["preset_choice"]
+    assert any("at most 1000 on this server" in reason for reason in job["preset_choice"]["reasons"])
     assert_problem(server.submit(with_settings(spp=1, caustics="photon_map")), 422,
                    "/settings/photons", "at most 1000")
     assert_problem(server.submit(with_settings(spp=1, indirect="photon_map", indirect_photons=5000)),

@@ -114,7 +114,8 @@ def test_split_jobs_of_each_integrator_are_bit_identical(farm, single, settings,
 
 def test_a_split_job_with_a_target_error_stops_at_the_same_pass(farm, single):
     api, _ = farm(workers=3)
-    body = {"scene": SCENE, "settings": {"spp": 64, "spp_per_pass": 1, "target_error": 0.05}}
+    # Under auto (the indirect map, whose bias layer the tasks hand in too): 0.01 stops midway.
+    body = {"scene": SCENE, "settings": {"spp": 64, "spp_per_pass": 1, "target_error": 0.01}}
     one, whole = rendered(single, body)
     stop = one["passes_done"]
     assert one["stats"]["stop_reason"] == "target_error" and 2 < stop < 64, one

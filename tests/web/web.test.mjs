@@ -55,8 +55,11 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
         label: input.labels.length > 0};
     }));
     assert.deepEqual(fields.map(f => f.name).sort(), Object.keys(schema).sort(), 'one field per setting');
+    // The form starts at the API's defaults, with the default preset's (auto) settings over them.
+    const presetSets = schema.preset.presets[schema.preset.default].settings;
     for (const f of fields) {
-      const spec = schema[f.name];
+      const spec = {...schema[f.name]};
+      if (f.name in presetSets) spec.default = presetSets[f.name];
       // With every setting at its default: path's caustics and indirect light are path traced, so
       // its photon settings (only_with one of caustics or indirect = photon_map) stay hidden.
       const alternatives = (spec.only_with || {})[integrator];
@@ -113,12 +116,12 @@ test('the settings form follows /api/settings: only the integrator\'s options, A
 test('presets: choosing one fills in what it sets; fields stay editable and win; none restores the scene\'s', async () => {
   const schema = (await api('/api/settings')).body;
   const presets = schema.preset.presets;
-  assert.deepEqual(Object.keys(presets).sort(), ['draft', 'final', 'preview']);
+  assert.deepEqual(Object.keys(presets).sort(), ['auto', 'draft', 'final', 'preview']);
   const {page, close} = await openPage();
   assert.deepEqual(await page.$$eval('#s-preset option', os => os.map(o => o.value)),
-    ['none', 'draft', 'preview', 'final'], 'the menu lists them fastest first');
+    ['none', 'auto', 'draft', 'preview', 'final'], 'the menu lists auto, then the rest fastest first');
   await selectExample(page, 'cornell-box');
-  assert.equal(await page.inputValue('#s-preset'), 'none');
+  assert.equal(await page.inputValue('#s-preset'), 'auto', 'auto is the default');
   assert.equal(await page.inputValue('#s-spp'), '64', 'the scene\'s spp');
   const shown = async key => (schema[key].type === 'boolean' ? String(await page.isChecked(`#s-${key}`))
     : page.inputValue(`#s-${key}`));
@@ -144,7 +147,9 @@ test('presets: choosing one fills in what it sets; fields stay editable and win;
   assert.equal(job.settings.spp, 8);
   assert.deepEqual([job.settings.width, job.settings.height], [24, 24]);
   for (const [key, value] of Object.entries(presets.draft.settings))
-    if (key !== 'spp') assert.equal(job.settings[key], value, `the job's ${key}`);
+    if (key !== 'spp' && key !== 'spp_per_pass') assert.equal(job.settings[key], value, `the job's ${key}`);
+  // The preset's 4 a pass, cut to leave the 8 spp asked 8 passes.
+  assert.equal(job.settings.spp_per_pass, 1);
   await page.waitForSelector(`${itemOf(job.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
   const png = new DataView(await (await fetch(`${BASE}/api/jobs/${job.id}/image.png`)).arrayBuffer());
   assert.deepEqual([png.getUint32(16), png.getUint32(20)], [24, 24], 'the PNG\'s IHDR size');
@@ -277,7 +282,8 @@ test('compare two finished renders: split view, difference and the error chart',
   await page.waitForSelector(`${itemOf(job.id)}[data-state=succeeded]`, {timeout: RENDER_TIMEOUT});
   await page.waitForSelector('#viewer-canvas[data-kind=image]');
   const photons = await page.textContent('#stats dd[data-stat=photons]');
-  assert.match(photons, /80\.0 k photon paths/, 'photon integrators show their photon count');
+  // 5000 a pass; auto's 16 a pass, cut to 2 to leave the 16 spp 8 passes.
+  assert.match(photons, /40\.0 k photon paths/, 'photon integrators show their photon count');
 
   await page.click('#tab-compare');
   await page.selectOption('#compare-a', shared.first);
@@ -335,9 +341,12 @@ test('validation errors are shown where their pointer says', async () => {
   assert.equal(status, 422);
   assert.equal(body.pointer, '/settings/spp');
   const sent = JSON.parse(request.postData()).settings;
-  // Path's caustics are path traced by default: its caustic map's settings (only_with) stay out.
+  // Path's caustics are path traced by default: its caustic map's settings (only_with) stay out;
+  // and under auto, which chooses the maps for the scene, so do caustics and indirect left as they
+  // were.
   const shown = Object.keys(schema).filter(n => (schema[n].integrators.length === 0 ||
-    schema[n].integrators.includes('path')) && !(schema[n].only_with || {}).path);
+    schema[n].integrators.includes('path')) && !(schema[n].only_with || {}).path &&
+    n !== 'caustics' && n !== 'indirect');
   assert.deepEqual(Object.keys(sent).sort(), shown.sort(), 'only the shown settings are sent');
   await page.waitForSelector('#s-spp-error:not(:empty)');
   assert.match(await page.textContent('#s-spp-error'), new RegExp(`at most ${MAX_SPP}`));

@@ -161,8 +161,13 @@ export class SettingsForm {
   values() {
     const out = {};
     let ok = true;
+    // A preset that takes the photon maps the scene needs chooses them on the server (the job's
+    // preset_choice says what and why): path's map settings are sent only when changed.
+    const sceneMaps = this.schema.preset?.presets?.[this.fields.get('preset')?.input.value]?.scene_maps;
     for (const [name, f] of this.fields) {
       if (f.input.disabled) continue;
+      if (sceneMaps && (name === 'caustics' || name === 'indirect') &&
+          f.input.value === String(f.spec.default) && !(name in this.sceneSettings)) continue;
       if (f.spec.type === 'boolean') out[name] = f.input.checked;
       else if (f.spec.type === 'integer' || f.spec.type === 'number') {
         if (f.input.value.trim() === '' || !f.input.checkValidity()) {

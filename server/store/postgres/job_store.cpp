@@ -24,7 +24,8 @@ namespace {
 const char* kJobColumns =
     "seq, id, state, scene, settings, scene_name, created_at, started_at, finished_at, attempt, "
     "lease_owner, lease_expires, stalled_leases, cancel_requested, progress, passes_done, "
-    "passes_total, relative_error, eta_seconds, convergence, stats, error, priority, task_passes";
+    "passes_total, relative_error, eta_seconds, convergence, stats, error, priority, task_passes, "
+    "preset_choice";
 
 Job readJob(const pqxx::row& r) {
     Job j;
@@ -52,6 +53,7 @@ Job readJob(const pqxx::row& r) {
     j.error = r[21].as<std::string>();
     j.priority = r[22].as<int>();
     j.taskPasses = r[23].as<int>();
+    j.presetChoice = Json::parse(r[24].as<std::string>());
     return j;
 }
 
@@ -158,10 +160,10 @@ std::optional<StoredResponse> PostgresJobStore::insert(Job& job, const std::stri
         job.seq =
             tx.exec_params1(
                   "INSERT INTO jobs (id, state, scene, settings, scene_name, created_at, "
-                  "priority, task_passes, passes_total) VALUES ($1, 'queued', $2, $3, $4, $5, "
-                  "$6, $7, $8) RETURNING seq",
+                  "priority, task_passes, passes_total, preset_choice) VALUES ($1, 'queued', $2, "
+                  "$3, $4, $5, $6, $7, $8, $9) RETURNING seq",
                   job.id, job.scene.dump(), job.settings.dump(), job.sceneName, job.createdAt,
-                  job.priority, job.taskPasses, job.passesTotal)[0]
+                  job.priority, job.taskPasses, job.passesTotal, job.presetChoice.dump())[0]
                 .as<int64_t>();
         job.state = JobState::Queued;
         holdAssets(tx, job);

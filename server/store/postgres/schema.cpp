@@ -137,6 +137,10 @@ UPDATE tasks SET merged = (state = 'done' AND result IS NULL);
 CREATE INDEX tasks_waiting ON tasks (job_id, first_pass) WHERE state = 'done' AND NOT merged;
 ALTER TABLE jobs ADD COLUMN consolidated_at DOUBLE PRECISION NOT NULL DEFAULT 0;
 )sql"},
+        // What a preset chose for the job's scene, and why (render/presets.h: presetChoice).
+        {.version = 5, .sql = R"sql(
+ALTER TABLE jobs ADD COLUMN preset_choice TEXT NOT NULL DEFAULT 'null';
+)sql"},
     };
     return all;
 }

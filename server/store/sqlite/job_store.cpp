@@ -52,7 +52,7 @@ CREATE TABLE IF NOT EXISTS idempotency (
 const char* kJobColumns =
     "seq, id, state, scene, settings, scene_name, created_at, started_at, finished_at, attempt, "
     "lease_owner, lease_expires, stalled_leases, cancel_requested, progress, passes_done, "
-    "passes_total, relative_error, eta_seconds, convergence, stats, error, priority";
+    "passes_total, relative_error, eta_seconds, convergence, stats, error, priority, preset_choice";
 
 Job readJob(const Statement& s) {
     Job j;
@@ -79,6 +79,7 @@ Job readJob(const Statement& s) {
     j.stats = Json::parse(s.text(20));
     j.error = s.text(21);
     j.priority = int(s.integer(22));
+    j.presetChoice = Json::parse(s.text(23));
     return j;
 }
 
@@ -131,6 +132,9 @@ SqliteJobStore::SqliteJobStore(const std::filesystem::path& file) {
     // Columns added since the first schema, to a file an older version wrote.
     if (!Statement(db_, "SELECT 1 FROM pragma_table_info('jobs') WHERE name = 'priority'").step())
         exec(db_, "ALTER TABLE jobs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0");
+    if (!Statement(db_, "SELECT 1 FROM pragma_table_info('jobs') WHERE name = 'preset_choice'")
+             .step())
+        exec(db_, "ALTER TABLE jobs ADD COLUMN preset_choice TEXT NOT NULL DEFAULT 'null'");
     createAssetSchema();
 }
 
@@ -152,13 +156,14 @@ std::optional<StoredResponse> SqliteJobStore::insert(Job& job, const std::string
     }
     Statement ins(db_,
                   "INSERT INTO jobs (id, state, scene, settings, scene_name, created_at, "
-                  "priority) VALUES (?, 'queued', ?, ?, ?, ?, ?)");
+                  "priority, preset_choice) VALUES (?, 'queued', ?, ?, ?, ?, ?, ?)");
     ins.bind(1, job.id)
         .bind(2, job.scene.dump())
         .bind(3, job.settings.dump())
         .bind(4, job.sceneName)
         .bind(5, job.createdAt)
-        .bind(6, int64_t(job.priority));
+        .bind(6, int64_t(job.priority))
+        .bind(7, job.presetChoice.dump());
     ins.run();
     job.seq = sqlite3_last_insert_rowid(db_);
     job.state = JobState::Queued;

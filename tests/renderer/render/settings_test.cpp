@@ -154,18 +154,41 @@ TEST(SettingsErrors, SppPerPassAboveSpp) {
 }
 
 TEST(SettingsMerge, OverridesKeyByKey) {
-    Json defaults{{"integrator", "whitted"}, {"spp", 64}, {"max_depth", 4}};
+    Json defaults{{"preset", "none"}, {"integrator", "whitted"}, {"spp", 64}, {"max_depth", 4}};
     Json overrides{{"spp", 16}, {"seed", 7}};
-    EXPECT_EQ(mergeSettings(defaults, overrides),
-              (Json{{"integrator", "whitted"}, {"spp", 16}, {"max_depth", 4}, {"seed", 7}}));
+    EXPECT_EQ(mergeSettings(defaults, overrides), (Json{{"preset", "none"},
+                                                        {"integrator", "whitted"},
+                                                        {"spp", 16},
+                                                        {"max_depth", 4},
+                                                        {"seed", 7}}));
     EXPECT_EQ(mergeSettings(defaults, Json::object()), defaults);
-    EXPECT_EQ(mergeSettings(Json::object(), overrides), overrides);
+    Json none = overrides;
+    none["preset"] = "none";
+    EXPECT_EQ(mergeSettings(Json::object(), none), none);
     // A non-object on either side contributes nothing.
     EXPECT_EQ(mergeSettings(defaults, Json()), defaults);
-    EXPECT_EQ(mergeSettings(Json(), overrides), overrides);
+    EXPECT_EQ(mergeSettings(Json(), none), none);
     // A merged value is still validated.
     EXPECT_SETTINGS_ERROR(mergeSettings(defaults, Json{{"spp", 0}}), "/settings/spp",
                           "must be in [1, 1000000], got 0");
+}
+
+// Where neither side names a preset, auto is as if the scene named it: beneath the scene's values
+// and the request's. Without the scene's traits it sets the sampler and pass size alone; its pass
+// size shrinks to leave the spp asked 8 passes.
+TEST(SettingsMerge, AutoIsTheDefaultPreset) {
+    const Json defaults{{"integrator", "whitted"}, {"spp", 64}, {"sampler", "independent"}};
+    EXPECT_EQ(mergeSettings(defaults, Json{{"seed", 7}}), (Json{{"preset", "auto"},
+                                                                {"integrator", "whitted"},
+                                                                {"spp", 64},
+                                                                {"sampler", "independent"},
+                                                                {"spp_per_pass", 8},
+                                                                {"seed", 7}}));
+    const RenderSettings s = parseSettings(mergeSettings(Json::object(), Json{{"spp", 256}}));
+    EXPECT_EQ(s.preset, "auto");
+    EXPECT_EQ(s.sampler, SamplerKind::SobolSequence);
+    EXPECT_EQ(s.sppPerPass, presetSettings("auto")["spp_per_pass"].get<int>());
+    EXPECT_EQ(RenderSettings{}.preset, "auto");
 }
 
 // A preset replaces the scene's values for what it sets; what the request names replaces the
@@ -181,7 +204,7 @@ TEST(SettingsPresets, SitBetweenTheSceneAndTheRequest) {
     EXPECT_EQ(s.maxDepth, 4);  // the preview preset leaves it to the scene
     s = parseSettings(mergeSettings(scene, Json{{"preset", "preview"}, {"spp", 4}}));
     EXPECT_EQ(s.spp, 4);
-    EXPECT_EQ(s.sppPerPass, 4);  // the preset's 8 per pass, cut to the spp asked
+    EXPECT_EQ(s.sppPerPass, 1);  // the preset's 8 per pass, cut to leave 8 passes (at least 1)
     s = parseSettings(mergeSettings(scene, Json{{"preset", "preview"}, {"spp", 160}}));
     EXPECT_EQ(s.sppPerPass, preview["spp_per_pass"].get<int>());
     // A scene's own preset is under its own values.
@@ -195,7 +218,7 @@ TEST(SettingsPresets, SitBetweenTheSceneAndTheRequest) {
     EXPECT_EQ(s.spp, presetSettings("draft")["spp"].get<int>());
     // An unknown preset is an error at its path, naming the valid ones.
     EXPECT_SETTINGS_ERROR(mergeSettings(scene, Json{{"preset", "ultra"}}), "/settings/preset",
-                          "unknown value \"ultra\"; valid: none, draft, preview, final");
+                          "unknown value \"ultra\"; valid: none, auto, draft, preview, final");
     EXPECT_SETTINGS_ERROR(mergeSettings(scene, Json{{"preset", 3}}), "/settings/preset",
                           "expected a string, got a number");
 }
@@ -208,7 +231,7 @@ TEST(SettingsPresets, EveryPresetIsValidAndDocumented) {
         EXPECT_EQ(schema["preset"]["presets"][p.name]["settings"], p.settings);
         EXPECT_FALSE(p.description.empty());
     }
-    EXPECT_EQ(schema["preset"]["default"], "none");
+    EXPECT_EQ(schema["preset"]["default"], "auto");
 }
 
 TEST(SettingsCommandLine, ParseSettingValue) {
