@@ -39,7 +39,8 @@ std::optional<Fit> fitRate(const std::vector<ProgressPoint>& history) {
 }  // namespace
 
 std::optional<StopForecast> forecastStop(const std::vector<ProgressPoint>& history, int passesTotal,
-                                         double targetError, double timeLimit) {
+                                         double targetError, double timeLimit,
+                                         int minTargetPasses) {
     if (history.empty() || history.back().passes <= 0) return std::nullopt;
     const ProgressPoint& last = history.back();
     // The pace of the recent passes: over the points of this history (a resumed render's history
@@ -55,14 +56,20 @@ std::optional<StopForecast> forecastStop(const std::vector<ProgressPoint>& histo
     f.reason = StopReason::Spp;
     if (targetError > 0) {
         if (std::isfinite(last.relativeError) && last.relativeError <= targetError) {
-            f.totalPasses = last.passes;
+            // Reached, though a render with the maps' bias goes on to its fewest passes.
+            f.totalPasses = std::max(last.passes, minTargetPasses);
             f.reason = StopReason::TargetError;
+            if (f.totalPasses > passesTotal) {
+                f.totalPasses = passesTotal;
+                f.reason = StopReason::Spp;
+            }
         } else if (std::optional<Fit> fit = fitRate(history)) {
             f.slope = fit->slope;
             // error(N) = error(n) (N / n)^slope; a rate flatter than -0.05 never gets there.
             if (fit->slope < -0.05) {
                 double logRatio = (std::log(targetError) - fit->logErrorAtLast) / fit->slope;
-                double passes = double(last.passes) * std::exp(std::min(logRatio, 50.0));
+                double passes = std::max(double(last.passes) * std::exp(std::min(logRatio, 50.0)),
+                                         double(minTargetPasses));
                 if (passes < f.totalPasses) {
                     f.totalPasses = std::max(passes, double(last.passes));
                     f.reason = StopReason::TargetError;

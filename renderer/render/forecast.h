@@ -27,8 +27,10 @@ struct StopForecast {
 };
 
 /// The forecast after the last point of `history` (points in pass order); nothing before the first
-/// pass. `targetError` and `timeLimit` are 0 when not set.
+/// pass. `targetError` and `timeLimit` are 0 when not set; the target stops no earlier than
+/// `minTargetPasses` (minPassesForTarget, render/stopping.h).
 std::optional<StopForecast> forecastStop(const std::vector<ProgressPoint>& history, int passesTotal,
-                                         double targetError, double timeLimit);
+                                         double targetError, double timeLimit,
+                                         int minTargetPasses = 2);
 
 }  // namespace caustic

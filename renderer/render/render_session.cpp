@@ -273,7 +273,7 @@ RangeResult RenderSession::renderRange(int first, int last, Film& film,
         history.push_back({film.passes(), rules.elapsed(), film.relativeError()});
         forecast =
             forecastStop(history, last, film.passSet().isPrefix() ? settings_.targetError : 0.0,
-                         settings_.timeLimit);
+                         settings_.timeLimit, minPassesForTarget(film));
         report(0.0);
         if (callbacks.onPass) callbacks.onPass(film);
         stop = rules.afterPass(film, pass + 1 < last);

@@ -127,7 +127,8 @@ std::vector<SettingSpec> rows() {
          .min = 0,
          .max = 1,
          .description =
-             "Stop once the estimated relative RMS error is at most this; 0 for no target."},
+             "Stop once the estimated relative RMS error is at most this, from the second pass "
+             "on (the eighth with a photon map); 0 for no target."},
         {.name = "max_depth",
          .field = field(&R::maxDepth),
          .min = 1,

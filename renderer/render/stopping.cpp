@@ -18,9 +18,13 @@ std::string toString(StopReason r) {
     return "unknown";
 }
 
+int minPassesForTarget(const Film& film) {
+    return film.tracksBias() ? kMinPassesWithBias : 2;
+}
+
 bool reachedTargetError(const Film& film, double targetError) {
-    return targetError > 0 && film.passes() >= 2 && film.passSet().isPrefix() &&
-           film.relativeError() <= targetError;
+    return targetError > 0 && film.passes() >= minPassesForTarget(film) &&
+           film.passSet().isPrefix() && film.relativeError() <= targetError;
 }
 
 StopRules::StopRules(const RenderSettings& settings, const std::atomic<bool>* cancel,

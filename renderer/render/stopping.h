@@ -25,8 +25,15 @@ struct RenderCancelled : std::runtime_error {
 enum class StopReason { Spp, TimeLimit, TargetError, Cancelled };
 std::string toString(StopReason r);
 
+/// The fewest passes a render stops on its target error after. An error estimate needs two passes.
+/// A film that tracks the photon maps' bias (Film::tracksBias) needs kMinPassesWithBias: over fewer
+/// passes the bias layer's mean is within its own noise, so its estimate is clamped to 0 and the
+/// noise alone would stop the render. docs/study/trust.md measures the estimate from 8 passes on.
+constexpr int kMinPassesWithBias = 8;
+int minPassesForTarget(const Film& film);
+
 /// Whether a film of every pass from the first on has reached `targetError` (relative RMS, as
-/// Film::relativeError; 0 for no target). Needs two passes.
+/// Film::relativeError; 0 for no target), with at least minPassesForTarget(film) passes.
 bool reachedTargetError(const Film& film, double targetError);
 
 /// How the time limit treats a render.

@@ -198,9 +198,9 @@ double etaSeconds(const Job& job, const RenderSettings& settings, const Film& fi
                   const Json& point) {
     std::vector<ProgressPoint> history = progressPoints(job.convergence);
     history.push_back(progressPoints(Json::array({point})).front());
-    std::optional<StopForecast> f =
-        forecastStop(history, job.passesTotal,
-                     film.passSet().isPrefix() ? settings.targetError : 0.0, settings.timeLimit);
+    std::optional<StopForecast> f = forecastStop(
+        history, job.passesTotal, film.passSet().isPrefix() ? settings.targetError : 0.0,
+        settings.timeLimit, minPassesForTarget(film));
     return f ? f->secondsLeft : -1.0;
 }
 

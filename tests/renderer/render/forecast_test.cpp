@@ -67,6 +67,26 @@ TEST(Forecast, NoRateIsAssumedBeforeFourErrorsNorTrustedWhenFlat) {
     EXPECT_FALSE(forecastStop({}, 50, 0.01, 0));
 }
 
+TEST(Forecast, ABiasedRenderStopsOnItsTargetNoEarlierThanItsFewestPasses) {
+    // Reached at pass 4, but a film with the maps' bias stops on its target from pass 8 on: four
+    // more seconds.
+    std::optional<StopForecast> f = forecastStop(history(4, 0.01, -0.5), 50, 0.05, 0, 8);
+    ASSERT_TRUE(f);
+    EXPECT_EQ(f->reason, StopReason::TargetError);
+    EXPECT_EQ(f->totalPasses, 8);
+    EXPECT_NEAR(f->secondsLeft, 4, 1e-9);
+    // Predicted for pass 6 by the fitted rate (0.1 / sqrt(n) = 0.0408 at n = 6): pass 8 still.
+    f = forecastStop(history(5, 0.1, -0.5), 50, 0.1 / std::sqrt(6.0), 0, 8);
+    ASSERT_TRUE(f);
+    EXPECT_EQ(f->reason, StopReason::TargetError);
+    EXPECT_NEAR(f->totalPasses, 8, 1e-9);
+    // A budget of 6 passes ends it first.
+    f = forecastStop(history(4, 0.01, -0.5), 6, 0.05, 0, 8);
+    ASSERT_TRUE(f);
+    EXPECT_EQ(f->reason, StopReason::Spp);
+    EXPECT_EQ(f->totalPasses, 6);
+}
+
 TEST(Forecast, APaceFromThisRunsPassesAlone) {
     // A render resumed at pass 10 after 100 s of an earlier attempt, now 2 s a pass.
     std::vector<ProgressPoint> h{{10, 100.0, 0.1 / std::sqrt(10.0)}};
