@@ -56,6 +56,8 @@ def parse_args():
     p.add_argument("--size", type=int, default=128, help="image width and height")
     p.add_argument("--target", type=float, default=0.02, help="target_error")
     p.add_argument("--max-spp", type=int, default=8192, help="the budget a render stops at")
+    p.add_argument("--time-limit", type=float, default=60,
+                   help="seconds a render stops at (it then has not reached the target)")
     p.add_argument("--ref-spp", type=int, default=8192)
     p.add_argument("--seeds", type=int, default=3)
     p.add_argument("--tolerance", type=float, default=1.25,
@@ -94,7 +96,7 @@ def measure(args, scene_path, cli, ref, noise2):
     for seed in range(args.seeds):
         image, st, _ = caustic_cli.run(args.caustic, scene_path, [
             *cli, "--set", f"target_error={args.target}", "--set", f"spp={args.max_spp}",
-            "--set", f"seed={seed}"], read_exr)
+            "--set", f"time_limit={args.time_limit}", "--set", f"seed={seed}"], read_exr)
         ref2 = float(np.mean(ref ** 2))
         true = math.sqrt(max(float(np.mean((image - ref) ** 2)) - noise2, 0.0) / ref2)
         rows.append({"seconds": st["total_seconds"], "spp": st["spp"], "passes": st["passes"],
@@ -112,7 +114,8 @@ def main():
     args = parse_args()
     command = os.environ.get("COMPARE_COMMAND", " ".join(sys.argv))
     print(f"Command: `{command}`; {args.size}x{args.size}, target_error {args.target}, "
-          f"{args.seeds} seeds (median, range), {args.ref_spp}-spp references.\n")
+          f"at most {args.max_spp} spp and {args.time_limit:g} s, {args.seeds} seeds (median, "
+          f"range), {args.ref_spp}-spp references.\n")
     print("| scene | configuration | seconds (range) | spp | passes | reported (bias) | true | "
           "reached | / best |")
     print("|---|---|---:|---:|---:|---:|---:|---|---:|")
