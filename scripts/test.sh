@@ -15,9 +15,9 @@ bash scripts/build.sh -DCAUSTIC_WERROR=ON
 (cd "$build" && ctest --output-on-failure --timeout 1200) || status=1
 
 # Label "sanitize": renderer_tests (less its statistical trust suites, tests/CMakeLists.txt says
-# why), server_tests and cli_tests (the CLI they run is instrumented too), about 18 minutes on 2
-# cores after a 12-minute build. Built by clang: GCC takes 25 minutes
-# to build the same instrumented code. Benchmarks are not built.
+# why), server_tests and cli_tests (the CLI they run is instrumented too), about 17 minutes on 2
+# cores after a 16-minute build. Built by clang: GCC takes 25 minutes to build the same
+# instrumented code. Benchmarks are not built.
 if CAUSTIC_BUILD_DIR=$build-sanitize bash scripts/build.sh -DCAUSTIC_WERROR=ON -DCAUSTIC_SANITIZE=ON \
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCAUSTIC_BUILD_BENCH=OFF; then
     (cd "$build-sanitize" && ctest --output-on-failure -L sanitize) || status=1

@@ -31,6 +31,6 @@ struct StopForecast {
 /// `minTargetPasses` (minPassesForTarget, render/stopping.h).
 std::optional<StopForecast> forecastStop(const std::vector<ProgressPoint>& history, int passesTotal,
                                          double targetError, double timeLimit,
-                                         int minTargetPasses = 2);
+                                         int minTargetPasses = kMinPassesForError);
 
 }  // namespace caustic

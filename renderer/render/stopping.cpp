@@ -19,7 +19,7 @@ std::string toString(StopReason r) {
 }
 
 int minPassesForTarget(const Film& film) {
-    return film.tracksBias() ? kMinPassesWithBias : 2;
+    return film.tracksBias() ? kMinPassesWithBias : kMinPassesForError;
 }
 
 bool reachedTargetError(const Film& film, double targetError) {

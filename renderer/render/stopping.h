@@ -25,10 +25,12 @@ struct RenderCancelled : std::runtime_error {
 enum class StopReason { Spp, TimeLimit, TargetError, Cancelled };
 std::string toString(StopReason r);
 
-/// The fewest passes a render stops on its target error after. An error estimate needs two passes.
-/// A film that tracks the photon maps' bias (Film::tracksBias) needs kMinPassesWithBias: over fewer
-/// passes the bias layer's mean is within its own noise, so its estimate is clamped to 0 and the
-/// noise alone would stop the render. docs/study/trust.md measures the estimate from 8 passes on.
+/// The fewest passes a render stops on its target error after. An error estimate needs
+/// kMinPassesForError. A film that tracks the photon maps' bias (Film::tracksBias) needs
+/// kMinPassesWithBias: over fewer passes the bias layer's mean is within its own noise, so its
+/// estimate is clamped to 0 and the noise alone would stop the render. docs/study/trust.md measures
+/// the estimate from 8 passes on.
+constexpr int kMinPassesForError = 2;
 constexpr int kMinPassesWithBias = 8;
 int minPassesForTarget(const Film& film);
 

@@ -74,7 +74,7 @@ TEST_P(RenderLoop, StopsAtTargetErrorBeforeSpp) {
     EXPECT_EQ(r.stats.stopReason, StopReason::TargetError);
     // An error estimate needs two passes; one with the photon maps' bias, eight.
     const int fewest = minPassesForTarget(*r.film);
-    EXPECT_EQ(fewest, r.film->tracksBias() ? kMinPassesWithBias : 2);
+    EXPECT_EQ(fewest, r.film->tracksBias() ? kMinPassesWithBias : kMinPassesForError);
     EXPECT_GE(r.stats.passes, fewest);
     EXPECT_LT(r.stats.passes, 2048);
     EXPECT_LE(r.stats.relativeError, 0.2);
