@@ -34,22 +34,30 @@ REPO = Path(__file__).resolve().parent.parent
 STUDY = "cornell-box,cornell-spheres,bunny,caustic-glass,meshes,indirect"
 HELD_OUT = "outdoor-metals,product-shot,stage-lights"
 
-SEQUENCE = ["--preset", "none", "--set", "sampler=sobol_sequence", "--set", "spp_per_pass=16"]
+
+
+def sequence(per_pass):
+    return ["--preset", "none", "--set", "sampler=sobol_sequence",
+            "--set", f"spp_per_pass={per_pass}"]
+
+
+CAUSTIC_MAP = ["--set", "caustics=photon_map"]
+INDIRECT_MAP = ["--set", "indirect=photon_map"]
 # Name, CLI arguments. `auto` is the default preset; the others name none, so that only what is
-# listed differs from the built-in defaults.
+# listed differs from the built-in defaults. The path tracer and each choice of maps at auto's two
+# pass sizes (16 a pass, and 4 under a target).
 CONFIGS = [
     ("auto (biased where it takes a map)", []),
     ("defaults (none)", ["--preset", "none"]),
-    ("path, sobol_sequence 16", SEQUENCE),
-    ("+ caustic map (biased)", SEQUENCE + ["--set", "caustics=photon_map"]),
-    ("+ indirect map (biased)", SEQUENCE + ["--set", "indirect=photon_map"]),
-    ("+ both maps (biased)",
-     SEQUENCE + ["--set", "caustics=photon_map", "--set", "indirect=photon_map"]),
+    *[(f"{label}, sobol_sequence {n}{' (biased)' if maps else ''}", sequence(n) + maps)
+      for n in (16, 4)
+      for label, maps in (("path", []), ("+ caustic map", CAUSTIC_MAP),
+                          ("+ indirect map", INDIRECT_MAP),
+                          ("+ both maps", CAUSTIC_MAP + INDIRECT_MAP))],
     ("ppm (biased)", ["--preset", "none", "--set", "integrator=ppm", "--set", "spp_per_pass=4"]),
     ("photon k50 (biased)",
      ["--preset", "none", "--set", "integrator=photon", "--set", "spp_per_pass=4"]),
 ]
-BOTH_MAPS = ["--set", "caustics=photon_map", "--set", "indirect=photon_map"]
 
 
 def parse_args():
@@ -64,6 +72,9 @@ def parse_args():
                    help="seconds a render stops at (it then has not reached the target)")
     p.add_argument("--ref-spp", type=int, default=8192)
     p.add_argument("--seeds", type=int, default=3)
+    p.add_argument("--configs", default="",
+                   help="comma-separated words: only the configurations whose name has one "
+                        "(auto always runs); e.g. `path,map` leaves out ppm and photon")
     p.add_argument("--tolerance", type=float, default=1.25,
                    help="most true error over the target that counts as reaching it")
     p.add_argument("--cache-dir", default=str(REPO / "build/bench-cache"))
@@ -77,7 +88,7 @@ def parse_args():
 
 def reference(args, name, scene_path):
     """The scene's long render and its noise (squared, absolute), cached by what determines it."""
-    extra = BOTH_MAPS if name == "stage-lights" else []
+    extra = CAUSTIC_MAP + INDIRECT_MAP if name == "stage-lights" else []
     cli = ["--preset", "none", "--set", f"spp={args.ref_spp}", "--set", "spp_per_pass=16",
            "--set", "sampler=sobol", "--set", f"seed={caustic_cli.REFERENCE_SEED}", *extra]
     key = json.dumps([caustic_cli.binary_hash(args.caustic), scene_path.read_text(), cli])
@@ -114,6 +125,12 @@ def measure(args, scene_path, cli, ref, noise2):
     return med
 
 
+def chosen(args):
+    words = [w for w in args.configs.split(",") if w]
+    return [(label, cli) for i, (label, cli) in enumerate(CONFIGS)
+            if i == 0 or not words or any(w in label for w in words)]
+
+
 def main():
     args = parse_args()
     command = os.environ.get("COMPARE_COMMAND", " ".join(sys.argv))
@@ -131,7 +148,7 @@ def main():
                 caustic_cli.load_scene(REPO / "scenes" / f"{name}.json", args.size)))
             ref, noise2 = reference(args, name, scene_path)
             results = [(label, measure(args, scene_path, cli, ref, noise2))
-                       for label, cli in CONFIGS]
+                       for label, cli in chosen(args)]
             reached = [m["seconds"] for _, m in results if m["reached"]]
             best = min(reached) if reached else float("nan")
             for label, m in results:

@@ -30,6 +30,8 @@ def parse_args():
                    help="comma-separated names under scenes/")
     p.add_argument("--presets", default="draft,preview,final")
     p.add_argument("--samplers", default="sobol,sobol_sequence")
+    p.add_argument("--per-pass", default="preset",
+                   help="comma-separated spp_per_pass values to try; `preset`: the preset's own")
     p.add_argument("--size", type=int, default=128, help="image width and height")
     p.add_argument("--ref-spp", type=int, default=4096)
     p.add_argument("--seeds", type=int, default=2)
@@ -50,9 +52,9 @@ def main():
     args = parse_args()
     print(f"Command: `{' '.join(sys.argv)}`; {args.size}x{args.size}, {args.seeds} seeds, "
           f"{args.ref_spp}-spp references (independent passes of 16 Sobol' points).\n")
-    print("| scene | preset | sampler | spp at the stop | passes | render s | reported error | "
-          "true error | reported / true |")
-    print("|---|---|---|---:|---:|---:|---:|---:|---:|")
+    print("| scene | preset | sampler | spp a pass | spp at the stop | passes | render s | "
+          "reported error | true error | reported / true |")
+    print("|---|---|---|---|---:|---:|---:|---:|---:|---:|")
     with tempfile.TemporaryDirectory() as scratch:
         scene_path = Path(scratch) / "scene.json"
         for name in args.scenes.split(","):
@@ -66,19 +68,21 @@ def main():
             noise2 = st["relative_error"] ** 2 * ref2
             for preset in args.presets.split(","):
                 for sampler in args.samplers.split(","):
-                    rows = []
-                    for seed in range(args.seeds):
-                        image, st = render(args, scene_path, [
-                            "--preset", preset, "--set", f"sampler={sampler}",
-                            "--set", f"seed={seed}"])
-                        mse = max(float(np.mean((image - ref) ** 2)) - noise2, 0.0)
-                        rows.append([st["spp"], st["passes"], st["render_seconds"],
-                                     st["relative_error"], math.sqrt(mse / ref2)])
-                    spp, passes, secs, reported, true = np.mean(rows, axis=0)
-                    print(f"| {name} | {preset} | {sampler} | {spp:.0f} | {passes:.1f} | "
-                          f"{secs:.2f} | {reported:.4f} | {true:.4f} | "
-                          f"{reported / true if true > 0 else float('nan'):.2f} |", flush=True)
-
+                    for per_pass in args.per_pass.split(","):
+                        own = [] if per_pass == "preset" else ["--set", f"spp_per_pass={per_pass}"]
+                        rows = []
+                        for seed in range(args.seeds):
+                            image, st = render(args, scene_path, [
+                                "--preset", preset, "--set", f"sampler={sampler}", *own,
+                                "--set", f"seed={seed}"])
+                            mse = max(float(np.mean((image - ref) ** 2)) - noise2, 0.0)
+                            rows.append([st["spp"], st["passes"], st["render_seconds"],
+                                         st["relative_error"], math.sqrt(mse / ref2)])
+                        spp, passes, secs, reported, true = np.mean(rows, axis=0)
+                        print(f"| {name} | {preset} | {sampler} | {per_pass} | {spp:.0f} | "
+                              f"{passes:.1f} | {secs:.2f} | {reported:.4f} | {true:.4f} | "
+                              f"{reported / true if true > 0 else float('nan'):.2f} |",
+                              flush=True)
 
 if __name__ == "__main__":
     main()

@@ -23,6 +23,11 @@ struct Preset {
     std::string description;
     nlohmann::json settings;  ///< The settings it sets, by JSON name, whatever the scene.
     bool sceneMaps = false;   ///< Also the photon maps the scene needs (photonMapsFor).
+    /// Set over `settings` by the render's target error (its own, the scene's or the request's):
+    /// [{"target_error": t, "settings": {...}}, ...] by falling t, the first with t at most the
+    /// target. Smaller passes for looser targets, so that a render stops near the pass that
+    /// reaches its target rather than at its floor (render/stopping.h).
+    nlohmann::json underTarget = nlohmann::json::array();
 };
 
 /// What a preset chose for one scene beyond its fixed settings, and why: {"settings": {...},
@@ -32,9 +37,13 @@ nlohmann::json photonMapsFor(const SceneTraits& traits);
 /// Every preset, fastest first.
 const std::vector<Preset>& presets();
 /// The settings of preset `name`, with the photon maps `traits` need where the preset takes them
-/// (none without traits); an empty object for "none" or a name that is no preset (which
-/// parseSettings then refuses at .../preset).
-nlohmann::json presetSettings(const nlohmann::json& name, const SceneTraits* traits = nullptr);
+/// (none without traits) and its `underTarget` settings for `targetError` (0: none); an empty
+/// object for "none" or a name that is no preset (which parseSettings then refuses at .../preset).
+nlohmann::json presetSettings(const nlohmann::json& name, const SceneTraits* traits = nullptr,
+                              double targetError = 0);
+/// A preset's pass size `perPass` beside an spp it did not set: cut to leave that spp the 8
+/// passes an error estimate needs, as far as it can (`--preset final --spp 64` renders 8 of 8).
+nlohmann::json presetPassSize(const nlohmann::json& perPass, const nlohmann::json& spp);
 /// What the preset `merged` (settings after mergeSettings) names chose for a scene of `traits`
 /// and why (photonMapsFor), with "preset": its name; a choice the merged settings replaced is
 /// left out of "settings" and its reason says so. Null for "none", a preset that takes no maps,

@@ -45,6 +45,7 @@ Json settingsSchemaJson() {
             for (const Preset& p : presets())
                 sets[p.name] = {{"description", p.description},
                                 {"settings", p.settings},
+                                {"under_target", p.underTarget},
                                 {"scene_maps", p.sceneMaps}};
             j["presets"] = sets;
         }
@@ -60,9 +61,9 @@ void overlay(Json& onto, const Json& values) {
         for (auto it = values.begin(); it != values.end(); ++it) onto[it.key()] = it.value();
 }
 
-}  // namespace
-
-Json mergeSettings(const Json& defaults, const Json& overrides, const SceneTraits* traits) {
+// The merge of mergeSettings, with the preset's settings for a render with or without a target.
+Json mergeWithPreset(const Json& defaults, const Json& overrides, const SceneTraits* traits,
+                     double targetError) {
     const bool overridden = overrides.is_object() && overrides.contains("preset");
     // Where neither names a preset, the default one (RenderSettings::preset) is as if the
     // defaults named it: beneath their values.
@@ -70,7 +71,7 @@ Json mergeSettings(const Json& defaults, const Json& overrides, const SceneTrait
     const Json& named = overridden                                            ? overrides["preset"]
                         : defaults.is_object() && defaults.contains("preset") ? defaults["preset"]
                                                                               : defaultPreset;
-    const Json preset = presetSettings(named, traits);
+    const Json preset = presetSettings(named, traits, targetError);
     Json merged = Json::object();
     if (!overridden) {
         merged["preset"] = named;
@@ -83,10 +84,20 @@ Json mergeSettings(const Json& defaults, const Json& overrides, const SceneTrait
     // passes an error estimate needs, as far as it can.
     const Json& perPass = merged.contains("spp_per_pass") ? merged["spp_per_pass"] : Json();
     const bool presetSpp = preset.contains("spp") && merged.value("spp", Json()) == preset["spp"];
-    if (preset.contains("spp_per_pass") && perPass == preset["spp_per_pass"] && !presetSpp &&
-        merged.contains("spp") && merged["spp"].is_number_integer() &&
-        perPass.is_number_integer() && merged["spp"].get<int64_t>() < 8 * perPass.get<int64_t>())
-        merged["spp_per_pass"] = std::max<int64_t>(1, merged["spp"].get<int64_t>() / 8);
+    if (preset.contains("spp_per_pass") && perPass == preset["spp_per_pass"] && !presetSpp)
+        merged["spp_per_pass"] = presetPassSize(perPass, merged.value("spp", Json()));
+    return merged;
+}
+
+}  // namespace
+
+Json mergeSettings(const Json& defaults, const Json& overrides, const SceneTraits* traits) {
+    const Json merged = mergeWithPreset(defaults, overrides, traits, 0);
+    // A preset's settings under a target (Preset::underTarget) set no target themselves, so the
+    // target of the first merge is the second's.
+    const Json& target = merged.contains("target_error") ? merged["target_error"] : Json();
+    if (target.is_number() && target.get<double>() > 0)
+        return mergeWithPreset(defaults, overrides, traits, target.get<double>());
     return merged;
 }
 

@@ -248,11 +248,23 @@ def test_auto_is_the_default_and_says_what_it_chose_and_why(server):
     choice = job["preset_choice"]
     assert choice["preset"] == "auto"
     assert choice["settings"] == {"indirect": "photon_map"}
-    assert [r.split(":")[0] for r in choice["reasons"]] == ["caustics", "indirect"]
+    assert [r.split(":")[0] for r in choice["reasons"]] == ["caustics", "indirect", "spp_per_pass"]
     assert "no mirror or smooth glass" in choice["reasons"][0]
     final = run_to_end(server, job["id"])
     assert final["state"] == "succeeded" and final["preset_choice"] == choice
     assert final["stats"]["relative_bias"] >= 0
+    # Under a target error its passes follow the target (the preset's under_target), and it says
+    # why: 4 a pass at 2% or more, 8 at 1% or more.
+    under = server.get("/api/settings").json()["preset"]["presets"]["auto"]["under_target"]
+    assert [(r["target_error"], r["settings"]) for r in under] == [
+        (0.02, {"spp_per_pass": 4}), (0.01, {"spp_per_pass": 8})]
+    for target, size in ((0.5, 4), (0.01, 8), (0.005, 16)):
+        job = submit_ok(server, {"scene": "cornell-box",
+                                 "settings": {"spp": 256, "target_error": target, "width": 8}})
+        assert job["settings"]["spp_per_pass"] == size, target
+        assert job["preset_choice"]["reasons"][2].startswith(f"spp_per_pass: {size}; a target")
+        assert server.post(f"/api/jobs/{job['id']}/cancel").status_code == 202
+        server.wait(job["id"], {"cancelled", "succeeded"})
     # A request's own value stands; preset none chooses nothing.
     job = submit_ok(server, {"scene": "cornell-box", "settings": {"spp": 16, "indirect": "paths"}})
     assert job["settings"]["indirect"] == "paths" and job["preset_choice"]["settings"] == {}

@@ -130,6 +130,19 @@ test('presets: choosing one fills in what it sets; fields stay editable and win;
     for (const [key, value] of Object.entries(presets[name].settings))
       assert.equal(await shown(key), String(value), `${name} sets ${key}`);
   }
+  // Under a target error auto renders in smaller passes (its under_target), as the API merges it;
+  // a pass size set by hand stays.
+  await page.selectOption('#s-preset', 'auto');
+  const [loose, tight] = presets.auto.under_target;
+  await page.fill('#s-target_error', String(loose.target_error));
+  assert.equal(await page.inputValue('#s-spp_per_pass'), String(loose.settings.spp_per_pass));
+  await page.fill('#s-target_error', String(tight.target_error));
+  assert.equal(await page.inputValue('#s-spp_per_pass'), String(tight.settings.spp_per_pass));
+  await page.fill('#s-target_error', '0');
+  assert.equal(await page.inputValue('#s-spp_per_pass'), String(presets.auto.settings.spp_per_pass));
+  await page.fill('#s-spp_per_pass', '5');
+  await page.fill('#s-target_error', '0.05');
+  assert.equal(await page.inputValue('#s-spp_per_pass'), '5', 'a pass size set by hand stays');
   await page.selectOption('#s-preset', 'none');
   assert.equal(await page.inputValue('#s-spp'), '64', 'none restores the scene\'s spp');
   assert.equal(await page.inputValue('#s-sampler'), schema.sampler.default);

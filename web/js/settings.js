@@ -53,6 +53,7 @@ export class SettingsForm {
     for (const name of conditions)
       this.fields.get(name)?.input.addEventListener('change', () => this.showIntegrator());
     this.fields.get('preset')?.input.addEventListener('change', () => this.applyPreset());
+    this.fields.get('target_error')?.input.addEventListener('input', () => this.followTarget());
     this.showIntegrator();
   }
 
@@ -154,7 +155,26 @@ export class SettingsForm {
       : {...this.sceneSettings, ...sets};
     for (const [n, value] of Object.entries(merged)) this.set(n, value);
     preset.input.value = name;
+    this.followTarget();
     this.showIntegrator();
+  }
+
+  /** A preset's settings for the target error (its `under_target` rung, as the API merges them)
+   *  in place of its own while the fields hold values the preset sets: auto's smaller passes
+   *  under a target. */
+  followTarget() {
+    const preset = this.schema.preset?.presets?.[this.fields.get('preset')?.input.value];
+    const target = this.fields.get('target_error');
+    if (!preset?.under_target?.length || !target) return;
+    const value = Number(target.input.value);
+    const rung = value > 0 ? preset.under_target.find(r => value >= r.target_error) : undefined;
+    const chosen = {...preset.settings, ...(rung?.settings || {})};
+    for (const n of Object.keys(chosen)) {
+      const f = this.fields.get(n);
+      const presetValues = [preset.settings[n], ...preset.under_target.map(r => r.settings[n])];
+      if (f && presetValues.some(v => v !== undefined && f.input.value === String(v)))
+        this.set(n, chosen[n]);
+    }
   }
 
   /** The visible settings as JSON, or null after marking the fields the browser finds invalid. */

@@ -42,8 +42,10 @@ TEST(AutoPreset, SaysWhatItChoseAndWhy) {
     Json choice = presetChoice(merged, traits);
     EXPECT_EQ(choice["preset"], "auto");
     EXPECT_EQ(choice["settings"], (Json{{"caustics", "photon_map"}, {"indirect", "photon_map"}}));
-    ASSERT_EQ(choice["reasons"].size(), 2u);
+    ASSERT_EQ(choice["reasons"].size(), 3u);
     EXPECT_TRUE(choice["reasons"][0].get<std::string>().starts_with("caustics: photon_map;"));
+    // The scene's 64 spp cut auto's 16 a pass to 8, for 8 passes.
+    EXPECT_TRUE(choice["reasons"][2].get<std::string>().starts_with("spp_per_pass: 8; no target"));
     // A request's own choice stands, and the reason says the preset's was replaced.
     merged = mergeSettings(scene->settings, Json{{"caustics", "paths"}}, &traits);
     EXPECT_EQ(merged["caustics"], "paths");
@@ -57,6 +59,40 @@ TEST(AutoPreset, SaysWhatItChoseAndWhy) {
     merged = mergeSettings(scene->settings, Json{{"preset", "none"}}, &traits);
     EXPECT_FALSE(merged.contains("indirect"));
     EXPECT_TRUE(presetChoice(merged, traits).is_null());
+}
+
+// Under a target error auto's passes follow the target: 4 at 2% or more, 8 at 1% or more, its own
+// 16 below; without a target, 16. A pass size the scene or the request names stands either way.
+TEST(AutoPreset, TakesPassesByItsTarget) {
+    auto scene = sceneFromJson(exampleScene("cornell-box", 8, 8));
+    const SceneTraits traits = sceneTraits(*scene);
+    auto perPass = [&](const Json& request) {
+        return mergeSettings(scene->settings, request, &traits)["spp_per_pass"];
+    };
+    const Json merged = mergeSettings(scene->settings, Json{{"target_error", 0.02}}, &traits);
+    EXPECT_EQ(merged["spp_per_pass"], 4);
+    EXPECT_EQ(merged["indirect"], "photon_map");
+    const Json choice = presetChoice(merged, traits);
+    EXPECT_EQ(choice["settings"], (Json{{"indirect", "photon_map"}}));
+    EXPECT_TRUE(choice["reasons"].back().get<std::string>().starts_with(
+        "spp_per_pass: 4; a target error of 0.02"));
+    EXPECT_EQ(perPass(Json{{"target_error", 0.0199}, {"spp", 256}}), 8);
+    EXPECT_EQ(perPass(Json{{"target_error", 0.01}, {"spp", 256}}), 8);
+    EXPECT_EQ(perPass(Json{{"target_error", 0.005}, {"spp", 256}}), 16);
+    // A target of 0 is none.
+    EXPECT_EQ(perPass(Json{{"target_error", 0}, {"spp", 256}}), 16);
+    // The scene's target counts as the request's does.
+    Json withTarget = scene->settings;
+    withTarget["target_error"] = 0.05;
+    EXPECT_EQ(mergeSettings(withTarget, Json::object(), &traits)["spp_per_pass"], 4);
+    // The request's pass size stands, and no reason claims the preset chose it.
+    const Json own =
+        mergeSettings(scene->settings, Json{{"target_error", 0.02}, {"spp_per_pass", 5}}, &traits);
+    EXPECT_EQ(own["spp_per_pass"], 5);
+    for (const Json& reason : presetChoice(own, traits)["reasons"])
+        EXPECT_FALSE(reason.get<std::string>().starts_with("spp_per_pass"));
+    // An spp too small for 8 passes of 4 still gets its 8 passes.
+    EXPECT_EQ(perPass(Json{{"target_error", 0.02}, {"spp", 16}}), 2);
 }
 
 }  // namespace
