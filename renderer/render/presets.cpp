@@ -38,9 +38,8 @@ const std::vector<Preset>& presets() {
          "How to render, from what the scene holds: photon maps where it needs them (a caustic map "
          "for mirrors and glass under local lights, an indirect map for diffuse interreflection), "
          "one Sobol' sequence through 16 samples a pass; under a target error, 4 a pass for "
-         "targets "
-         "of 2% or more and 8 for 1% or more. Sets no spp or target: the scene's and the "
-         "request's hold. The job says what it chose and why (preset_choice).",
+         "targets of 2% or more and 8 for 1% or more. Sets no spp or target: the scene's and "
+         "the request's hold. The job says what it chose and why (preset_choice).",
          {{"sampler", "sobol_sequence"}, {"spp_per_pass", 16}},
          true,
          {{{"target_error", 0.02}, {"settings", {{"spp_per_pass", 4}}}},
@@ -150,7 +149,11 @@ nlohmann::json presetChoice(const nlohmann::json& merged, const SceneTraits& tra
     // The pass size it took, where that depends on the target; the settings it reports are the
     // maps alone, which a service's limits may replace by paths (server/jobs/submission.cpp).
     if (!p->underTarget.empty()) {
-        const double target = merged.value("target_error", 0.0);
+        // Read before the settings are validated (server/jobs/submission.cpp): a target that is
+        // no number is none here, and parseSettings refuses it at its path.
+        const nlohmann::json& given =
+            merged.contains("target_error") ? merged["target_error"] : nlohmann::json();
+        const double target = given.is_number() ? given.get<double>() : 0.0;
         const nlohmann::json* under = underTargetFor(*p, target);
         const nlohmann::json size =
             presetPassSize((under ? *under : p->settings).value("spp_per_pass", nlohmann::json()),

@@ -265,6 +265,9 @@ def test_auto_is_the_default_and_says_what_it_chose_and_why(server):
         assert job["preset_choice"]["reasons"][2].startswith(f"spp_per_pass: {size}; a target")
         assert server.post(f"/api/jobs/{job['id']}/cancel").status_code == 202
         server.wait(job["id"], {"cancelled", "succeeded"})
+    # A target that is no number is refused where it is, not taken by auto's choice.
+    r = server.submit({"scene": "cornell-box", "settings": {"target_error": "1%"}})
+    assert_problem(r, 422, "/settings/target_error", "expected a number, got a string")
     # A request's own value stands; preset none chooses nothing.
     job = submit_ok(server, {"scene": "cornell-box", "settings": {"spp": 16, "indirect": "paths"}})
     assert job["settings"]["indirect"] == "paths" and job["preset_choice"]["settings"] == {}

@@ -2,6 +2,7 @@
 // render/scene_traits.h), on the example scenes, and how the choice is reported.
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "render/presets.h"
 #include "render/scene_traits.h"
 #include "render/settings.h"
@@ -91,6 +92,16 @@ TEST(AutoPreset, TakesPassesByItsTarget) {
     EXPECT_EQ(own["spp_per_pass"], 5);
     for (const Json& reason : presetChoice(own, traits)["reasons"])
         EXPECT_FALSE(reason.get<std::string>().starts_with("spp_per_pass"));
+    // A target that is no number is refused by parseSettings, at its path; the choice, made
+    // before that, takes it for none and does not throw.
+    const Json bad = mergeSettings(scene->settings, Json{{"target_error", "1%"}}, &traits);
+    EXPECT_NO_THROW(presetChoice(bad, traits));
+    try {
+        parseSettings(bad, "/settings");
+        ADD_FAILURE() << "a string target_error was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.path(), "/settings/target_error");
+    }
     // An spp too small for 8 passes of 4 still gets its 8 passes.
     EXPECT_EQ(perPass(Json{{"target_error", 0.02}, {"spp", 16}}), 2);
 }
