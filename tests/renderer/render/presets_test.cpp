@@ -90,7 +90,8 @@ TEST(AutoPreset, TakesPassesByItsTarget) {
     const Json own =
         mergeSettings(scene->settings, Json{{"target_error", 0.02}, {"spp_per_pass", 5}}, &traits);
     EXPECT_EQ(own["spp_per_pass"], 5);
-    for (const Json& reason : presetChoice(own, traits)["reasons"])
+    const Json ownChoice = presetChoice(own, traits);
+    for (const Json& reason : ownChoice["reasons"])
         EXPECT_FALSE(reason.get<std::string>().starts_with("spp_per_pass"));
     // A target that is no number is refused by parseSettings, at its path; the choice, made
     // before that, takes it for none and does not throw.
